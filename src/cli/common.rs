@@ -1,0 +1,62 @@
+//! Pieces `run` and `batch` share: preset loading and the progress bar.
+
+use std::io::IsTerminal;
+use std::path::Path;
+
+use anyhow::Context;
+use clap::Args;
+use grime::preset::{self, Preset};
+
+/// Flags that choose and adjust the preset.
+#[derive(Debug, Clone, Args)]
+pub struct PresetFlags {
+    /// Preset: a built-in name (see `grime preset --list`) or a .toml file.
+    #[arg(long, value_name = "NAME|FILE")]
+    pub preset: Option<String>,
+    /// Override one preset field, e.g. `--set rain.k_a=0.7` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Number of rainfalls (same as `--set rain.layers=N`).
+    #[arg(long, value_name = "N")]
+    pub layers: Option<u32>,
+    /// Random seed (same as `--set seed=N`).
+    #[arg(long, value_name = "N")]
+    pub seed: Option<u64>,
+}
+
+impl PresetFlags {
+    /// The preset after the file or name, then `--set`, `--layers`, `--seed`.
+    pub fn resolve(&self) -> anyhow::Result<Preset> {
+        let mut p = match &self.preset {
+            None => Preset::default(),
+            Some(name) if !name.ends_with(".toml") && !Path::new(name).exists() => preset::builtin(name)?,
+            Some(file) => {
+                let text = std::fs::read_to_string(file)
+                    .with_context(|| format!("{file}: cannot read preset"))?;
+                Preset::from_toml(&text).with_context(|| file.clone())?
+            }
+        };
+        for s in &self.set {
+            p.set(s)?;
+        }
+        if let Some(n) = self.layers {
+            p.set(&format!("rain.layers={n}"))?;
+        }
+        if let Some(seed) = self.seed {
+            p.seed = seed;
+        }
+        Ok(p)
+    }
+}
+
+/// A progress bar on stderr, hidden when stderr is not a terminal or `quiet`.
+pub fn progress_bar(quiet: bool, len: u64, template: &str) -> indicatif::ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(len);
+    if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}

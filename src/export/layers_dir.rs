@@ -1,0 +1,87 @@
+//! `--layers-dir`: one RGBA PNG per layer at photo size (transparent where the
+//! layer has no effect) and a `manifest.json` listing them in stacking order.
+
+use std::path::Path;
+
+use image::DynamicImage;
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::io::{self, Format};
+use crate::stack::{BlendMode, Stack};
+
+/// One entry of `manifest.json`.
+#[derive(Debug, Serialize)]
+pub struct ManifestLayer {
+    /// Layer name.
+    pub name: String,
+    /// File name inside the folder.
+    pub file: String,
+    /// Blend mode.
+    pub blend: BlendMode,
+    /// Opacity, 0..1.
+    pub opacity: f32,
+    /// Visibility.
+    pub visible: bool,
+}
+
+/// `manifest.json`.
+#[derive(Debug, Serialize)]
+pub struct Manifest {
+    /// Photo width.
+    pub width: u32,
+    /// Photo height.
+    pub height: u32,
+    /// Layers bottom to top; the first is the original photo.
+    pub layers: Vec<ManifestLayer>,
+}
+
+/// File-name-safe form of a layer name.
+pub fn slug(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' })
+        .collect()
+}
+
+/// Writes the photo, every layer and `manifest.json` into `dir` (created if
+/// missing). Every file is written atomically.
+///
+/// # Errors
+/// I/O and encoding errors, naming the file.
+pub fn write(stack: &Stack, dir: &Path) -> Result<Manifest> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let mut layers = Vec::with_capacity(stack.layers.len() + 1);
+    let photo_file = "00-photo.png".to_string();
+    io::save_image(stack.base.image(), stack.base.icc.as_deref(), &dir.join(&photo_file))?;
+    layers.push(ManifestLayer {
+        name: "photo".into(),
+        file: photo_file,
+        blend: BlendMode::Normal,
+        opacity: 1.0,
+        visible: true,
+    });
+    for (i, layer) in stack.layers.iter().enumerate() {
+        let file = format!("{:02}-{}.png", i + 1, slug(&layer.name));
+        let path = dir.join(&file);
+        let img = DynamicImage::ImageRgba8(layer.to_rgba());
+        io::write_atomic(&path, |out| io::encode(&img, None, Format::Png, &path, out))?;
+        layers.push(ManifestLayer {
+            name: layer.name.clone(),
+            file,
+            blend: layer.blend,
+            opacity: layer.opacity,
+            visible: layer.visible,
+        });
+    }
+    let manifest = Manifest {
+        width: stack.base.width(),
+        height: stack.base.height(),
+        layers,
+    };
+    let path = dir.join("manifest.json");
+    let text = serde_json::to_string_pretty(&manifest).map_err(|e| Error::Preset(e.to_string()))?;
+    io::write_atomic(&path, |out| {
+        std::io::Write::write_all(out, text.as_bytes()).map_err(|e| Error::io(&path, e))
+    })?;
+    Ok(manifest)
+}

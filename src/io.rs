@@ -1,0 +1,300 @@
+//! Reading photos and masks, writing images atomically.
+//!
+//! Inputs: PNG, JPEG, TIFF, WebP at 8 or 16 bits, greyscale or RGB(A); EXIF
+//! orientation is applied and the ICC profile kept. Decoding limits refuse
+//! decompression bombs. Outputs are written to a temporary file in the
+//! target folder and renamed into place, so an interrupted run never leaves a
+//! half-written file, and an input is never overwritten.
+
+use std::fs::File;
+use std::io::{BufReader, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use image::{DynamicImage, GrayImage, ImageDecoder, ImageEncoder, ImageError, ImageReader};
+
+use crate::error::{Error, Result};
+use crate::photo::Photo;
+
+/// Largest image grime decodes, in pixels (about 16k x 16k).
+pub const MAX_PIXELS: u64 = 268_435_456;
+
+/// The image formats grime writes, chosen by file extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// PNG, 8 or 16 bit.
+    Png,
+    /// JPEG, 8 bit.
+    Jpeg,
+    /// TIFF, 8 or 16 bit.
+    Tiff,
+    /// WebP (lossless), 8 bit.
+    Webp,
+    /// Layered Photoshop document.
+    Psd,
+    /// Layered OpenRaster document.
+    Ora,
+}
+
+impl Format {
+    /// The format an output path names.
+    ///
+    /// # Errors
+    /// [`Error::UnknownFormat`] for any other extension.
+    pub fn from_path(path: &Path) -> Result<Format> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .unwrap_or_default();
+        Ok(match ext.as_str() {
+            "png" => Format::Png,
+            "jpg" | "jpeg" => Format::Jpeg,
+            "tif" | "tiff" => Format::Tiff,
+            "webp" => Format::Webp,
+            "psd" => Format::Psd,
+            "ora" => Format::Ora,
+            _ => return Err(Error::UnknownFormat { path: path.to_path_buf() }),
+        })
+    }
+
+    /// True for extensions grime reads as photos.
+    pub fn is_input(path: &Path) -> bool {
+        matches!(
+            Format::from_path(path),
+            Ok(Format::Png | Format::Jpeg | Format::Tiff | Format::Webp)
+        )
+    }
+}
+
+fn limits() -> image::Limits {
+    let mut l = image::Limits::default();
+    l.max_image_width = Some(1 << 16);
+    l.max_image_height = Some(1 << 16);
+    l.max_alloc = Some(MAX_PIXELS * 8);
+    l
+}
+
+fn decode_error(path: &Path, e: ImageError) -> Error {
+    match e {
+        ImageError::Limits(l) => Error::TooLarge {
+            path: path.to_path_buf(),
+            reason: l.to_string(),
+            max_pixels: MAX_PIXELS,
+        },
+        ImageError::IoError(io) => Error::io(path, io),
+        ImageError::Unsupported(u) => Error::Decode {
+            path: path.to_path_buf(),
+            reason: u.to_string(),
+        },
+        other => Error::Decode {
+            path: path.to_path_buf(),
+            reason: other.to_string(),
+        },
+    }
+}
+
+/// Decodes an image file: format from its content, EXIF orientation applied,
+/// ICC profile kept.
+///
+/// # Errors
+/// [`Error::Io`] if the file cannot be opened, [`Error::UnknownFormat`] for
+/// a file that is no known image, [`Error::Decode`] for a corrupt one,
+/// [`Error::TooLarge`] past the decoding limits.
+pub fn load_image(path: &Path) -> Result<(DynamicImage, Option<Vec<u8>>)> {
+    let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut reader = ImageReader::new(BufReader::new(file))
+        .with_guessed_format()
+        .map_err(|e| Error::io(path, e))?;
+    if reader.format().is_none() {
+        return Err(if std::fs::metadata(path).map(|m| m.len() == 0).unwrap_or(false) {
+            Error::Decode { path: path.to_path_buf(), reason: "the file is empty".into() }
+        } else {
+            Error::UnknownFormat { path: path.to_path_buf() }
+        });
+    }
+    reader.limits(limits());
+    let mut decoder = reader.into_decoder().map_err(|e| decode_error(path, e))?;
+    let (w, h) = decoder.dimensions();
+    if w as u64 * h as u64 > MAX_PIXELS {
+        return Err(Error::TooLarge {
+            path: path.to_path_buf(),
+            reason: format!("{w}x{h}"),
+            max_pixels: MAX_PIXELS,
+        });
+    }
+    let icc = decoder.icc_profile().ok().flatten();
+    let orientation = decoder.orientation().unwrap_or(image::metadata::Orientation::NoTransforms);
+    let mut img = DynamicImage::from_decoder(decoder).map_err(|e| decode_error(path, e))?;
+    img.apply_orientation(orientation);
+    Ok((img, icc))
+}
+
+/// Loads a photo (see [`load_image`]).
+///
+/// # Errors
+/// As [`load_image`].
+pub fn load_photo(path: &Path) -> Result<Photo> {
+    let (img, icc) = load_image(path)?;
+    let mut photo = Photo::new(img);
+    photo.icc = icc;
+    Ok(photo)
+}
+
+/// Loads a region mask (greyscale; white = wall) that must match `w` x `h`.
+///
+/// # Errors
+/// As [`load_image`], plus [`Error::MaskSize`] when the size differs.
+pub fn load_mask(path: &Path, w: u32, h: u32) -> Result<GrayImage> {
+    let (img, _) = load_image(path)?;
+    if img.width() != w || img.height() != h {
+        return Err(Error::MaskSize {
+            mask_w: img.width(),
+            mask_h: img.height(),
+            img_w: w,
+            img_h: h,
+        });
+    }
+    Ok(img.to_luma8())
+}
+
+/// True when `a` and `b` name the same existing file (or the same path).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => a == b,
+    }
+}
+
+static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Writes a file atomically: `write` fills a temporary file next to `path`,
+/// which is then renamed over `path`. On any error the temporary file is
+/// removed and `path` is left as it was.
+///
+/// # Errors
+/// [`Error::Io`] when the folder is missing or not writable, or whatever
+/// `write` returns.
+pub fn write_atomic(path: &Path, write: impl FnOnce(&mut BufWriter<File>) -> Result<()>) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    if !dir.is_dir() {
+        return Err(Error::io(
+            path,
+            std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                format!("folder {} does not exist; create it first", dir.display()),
+            ),
+        ));
+    }
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
+    let tmp = dir.join(format!(
+        ".{name}.grime-{}-{}.tmp",
+        std::process::id(),
+        TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    let result = (|| {
+        let file = File::create(&tmp).map_err(|e| Error::io(&tmp, e))?;
+        let mut out = BufWriter::new(file);
+        write(&mut out)?;
+        let file = out.into_inner().map_err(|e| Error::io(&tmp, e.into_error()))?;
+        file.sync_all().map_err(|e| Error::io(&tmp, e))?;
+        std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// Encodes `img` in `format` (PNG/JPEG/TIFF/WebP) to `out`, embedding `icc`
+/// where the format allows. 16-bit images stay 16-bit in PNG and TIFF.
+///
+/// # Errors
+/// [`Error::Encode`] if the encoder fails, [`Error::UnknownFormat`] for a
+/// layered format.
+pub fn encode(img: &DynamicImage, icc: Option<&[u8]>, format: Format, path: &Path, out: &mut impl Write) -> Result<()> {
+    let enc_err = |e: ImageError| Error::Encode {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    };
+    fn with_icc<E: ImageEncoder>(mut e: E, icc: Option<&[u8]>) -> E {
+        if let Some(icc) = icc {
+            let _ = e.set_icc_profile(icc.to_vec());
+        }
+        e
+    }
+    match format {
+        Format::Png => img
+            .write_with_encoder(with_icc(image::codecs::png::PngEncoder::new(out), icc))
+            .map_err(enc_err),
+        Format::Jpeg => {
+            let rgb = DynamicImage::ImageRgb8(img.to_rgb8());
+            rgb.write_with_encoder(with_icc(
+                image::codecs::jpeg::JpegEncoder::new_with_quality(out, 92),
+                icc,
+            ))
+            .map_err(enc_err)
+        }
+        Format::Tiff => {
+            let mut buf = std::io::Cursor::new(Vec::new());
+            img.write_with_encoder(with_icc(image::codecs::tiff::TiffEncoder::new(&mut buf), icc))
+                .map_err(enc_err)?;
+            out.write_all(buf.get_ref()).map_err(|e| Error::io(path, e))
+        }
+        Format::Webp => {
+            let img8 = if img.color().has_alpha() {
+                DynamicImage::ImageRgba8(img.to_rgba8())
+            } else {
+                DynamicImage::ImageRgb8(img.to_rgb8())
+            };
+            img8.write_with_encoder(with_icc(image::codecs::webp::WebPEncoder::new_lossless(out), icc))
+                .map_err(enc_err)
+        }
+        Format::Psd | Format::Ora => Err(Error::UnknownFormat { path: path.to_path_buf() }),
+    }
+}
+
+/// Saves a flat image atomically in the format the extension names.
+///
+/// # Errors
+/// As [`write_atomic`] and [`encode`].
+pub fn save_image(img: &DynamicImage, icc: Option<&[u8]>, path: &Path) -> Result<()> {
+    let format = Format::from_path(path)?;
+    write_atomic(path, |out| encode(img, icc, format, path, out))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn atomic_write_leaves_nothing_on_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("x.png");
+        std::fs::write(&path, b"old").unwrap();
+        let r = write_atomic(&path, |out| {
+            out.write_all(b"partial").unwrap();
+            Err(Error::Cancelled)
+        });
+        assert!(r.is_err());
+        assert_eq!(std::fs::read(&path).unwrap(), b"old");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "temp file removed");
+    }
+
+    #[test]
+    fn missing_folder_is_a_clear_error() {
+        let err = write_atomic(Path::new("/nonexistent-grime/x.png"), |_| Ok(())).unwrap_err();
+        assert!(err.to_string().contains("does not exist"), "{err}");
+    }
+
+    #[test]
+    fn formats_by_extension() {
+        assert_eq!(Format::from_path(Path::new("a.JPG")).unwrap(), Format::Jpeg);
+        assert_eq!(Format::from_path(Path::new("a.tiff")).unwrap(), Format::Tiff);
+        assert!(Format::from_path(Path::new("a.bmpx")).is_err());
+        assert!(!Format::is_input(Path::new("a.psd")));
+    }
+}

@@ -1,0 +1,329 @@
+//! Layers and how they combine: the result every front end shows and every
+//! exporter writes.
+//!
+//! Blending follows the separable formulas of the W3C Compositing spec (the
+//! ones Photoshop, GIMP's legacy modes, Krita and psd-tools use) on straight
+//! (non-premultiplied) sRGB values, in floating point, rounded once at the
+//! end. Over an opaque base, for a layer of colour `c`, alpha `a` and opacity
+//! `o`:
+//!
+//! ```text
+//! normal:   out = b + (c - b) * a * o
+//! multiply: out = b + (b * c - b) * a * o
+//! ```
+
+use image::{DynamicImage, GrayImage, ImageBuffer, Rgba, RgbaImage};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::photo::Photo;
+
+/// How a layer combines with what is below it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BlendMode {
+    /// Paint over.
+    Normal,
+    /// Darken: base times layer colour.
+    Multiply,
+}
+
+impl BlendMode {
+    /// Blends one channel, values in 0..1.
+    #[inline]
+    pub fn blend(self, base: f32, src: f32) -> f32 {
+        match self {
+            BlendMode::Normal => src,
+            BlendMode::Multiply => base * src,
+        }
+    }
+}
+
+/// A layer's pixels, at photo size.
+#[derive(Debug, Clone)]
+pub enum LayerPixels {
+    /// One colour everywhere; coverage varies per pixel (rain, granules).
+    Tint {
+        /// The colour, sRGB.
+        color: [u8; 3],
+        /// Coverage, 0 = transparent.
+        alpha: GrayImage,
+    },
+    /// Colour and coverage per pixel, straight alpha (moss, dust film).
+    Rgba(RgbaImage),
+}
+
+/// One named layer of the stack.
+#[derive(Debug, Clone)]
+pub struct Layer {
+    /// Name shown in editors ("rain 01", "moss", ...).
+    pub name: String,
+    /// Blend mode.
+    pub blend: BlendMode,
+    /// Opacity, 0..1.
+    pub opacity: f32,
+    /// Whether the layer takes part in the composite.
+    pub visible: bool,
+    /// The pixels.
+    pub pixels: LayerPixels,
+}
+
+impl Layer {
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        match &self.pixels {
+            LayerPixels::Tint { alpha, .. } => alpha.width(),
+            LayerPixels::Rgba(img) => img.width(),
+        }
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        match &self.pixels {
+            LayerPixels::Tint { alpha, .. } => alpha.height(),
+            LayerPixels::Rgba(img) => img.height(),
+        }
+    }
+
+    /// Straight-alpha RGBA of one pixel.
+    pub fn rgba(&self, x: u32, y: u32) -> [u8; 4] {
+        match &self.pixels {
+            LayerPixels::Tint { color, alpha } => {
+                [color[0], color[1], color[2], alpha.get_pixel(x, y)[0]]
+            }
+            LayerPixels::Rgba(img) => img.get_pixel(x, y).0,
+        }
+    }
+
+    /// Writes row `y` as straight-alpha RGBA into `out` (4 bytes per pixel).
+    pub fn rgba_row(&self, y: u32, out: &mut [u8]) {
+        let w = self.width() as usize;
+        let y = y as usize;
+        match &self.pixels {
+            LayerPixels::Tint { color, alpha } => {
+                let row = &alpha.as_raw()[y * w..(y + 1) * w];
+                for (o, &a) in out.chunks_exact_mut(4).zip(row) {
+                    o.copy_from_slice(&[color[0], color[1], color[2], a]);
+                }
+            }
+            LayerPixels::Rgba(img) => out.copy_from_slice(&img.as_raw()[y * w * 4..(y + 1) * w * 4]),
+        }
+    }
+
+    /// The layer as a straight-alpha RGBA image.
+    pub fn to_rgba(&self) -> RgbaImage {
+        match &self.pixels {
+            LayerPixels::Tint { color, alpha } => {
+                RgbaImage::from_fn(alpha.width(), alpha.height(), |x, y| {
+                    Rgba([color[0], color[1], color[2], alpha.get_pixel(x, y)[0]])
+                })
+            }
+            LayerPixels::Rgba(img) => img.clone(),
+        }
+    }
+
+    /// Coverage of the whole layer: mean alpha in 0..1.
+    pub fn coverage(&self) -> f64 {
+        let (sum, n) = match &self.pixels {
+            LayerPixels::Tint { alpha, .. } => (
+                alpha.as_raw().par_iter().map(|&a| a as u64).sum::<u64>(),
+                alpha.as_raw().len(),
+            ),
+            LayerPixels::Rgba(img) => (
+                img.as_raw().par_chunks_exact(4).map(|p| p[3] as u64).sum::<u64>(),
+                img.as_raw().len() / 4,
+            ),
+        };
+        sum as f64 / (255.0 * n.max(1) as f64)
+    }
+}
+
+/// The photo and the effect layers above it, bottom to top.
+#[derive(Debug, Clone)]
+pub struct Stack {
+    /// The original photo, the bottom layer.
+    pub base: std::sync::Arc<Photo>,
+    /// Effect layers, in stacking order (first = lowest).
+    pub layers: Vec<Layer>,
+    /// The wall region (255 = wall), if one was given.
+    pub region: Option<std::sync::Arc<GrayImage>>,
+}
+
+impl Stack {
+    /// Flattens the visible layers onto the photo, at the photo's bit depth;
+    /// an alpha channel in the photo is kept as is.
+    pub fn composite(&self) -> DynamicImage {
+        let visible: Vec<&Layer> = self
+            .layers
+            .iter()
+            .filter(|l| l.visible && l.opacity > 0.0)
+            .collect();
+        match self.base.image() {
+            DynamicImage::ImageRgb8(img) => {
+                DynamicImage::ImageRgb8(composite_buffer(img, 3, 255.0, &visible))
+            }
+            DynamicImage::ImageRgba8(img) => {
+                DynamicImage::ImageRgba8(composite_buffer(img, 4, 255.0, &visible))
+            }
+            DynamicImage::ImageRgb16(img) => {
+                DynamicImage::ImageRgb16(composite_buffer(img, 3, 65535.0, &visible))
+            }
+            DynamicImage::ImageRgba16(img) => {
+                DynamicImage::ImageRgba16(composite_buffer(img, 4, 65535.0, &visible))
+            }
+            other => other.clone(),
+        }
+    }
+}
+
+/// A subpixel type the compositor can read and write.
+trait Channel: Copy + Send + Sync + 'static {
+    fn level(self) -> f32;
+    fn from_level(v: f32) -> Self;
+}
+
+impl Channel for u8 {
+    fn level(self) -> f32 {
+        self as f32
+    }
+    fn from_level(v: f32) -> Self {
+        v.round().clamp(0.0, 255.0) as u8
+    }
+}
+
+impl Channel for u16 {
+    fn level(self) -> f32 {
+        self as f32
+    }
+    fn from_level(v: f32) -> Self {
+        v.round().clamp(0.0, 65535.0) as u16
+    }
+}
+
+fn composite_buffer<P, T>(
+    base: &ImageBuffer<P, Vec<T>>,
+    channels: usize,
+    full: f32,
+    layers: &[&Layer],
+) -> ImageBuffer<P, Vec<T>>
+where
+    P: image::Pixel<Subpixel = T>,
+    T: Channel + image::Primitive,
+{
+    let (w, h) = base.dimensions();
+    let row_len = w as usize * channels;
+    let mut out = base.as_raw().clone();
+    out.par_chunks_exact_mut(row_len)
+        .enumerate()
+        .for_each(|(y, row)| {
+            let mut acc: Vec<f32> = row.iter().map(|v| v.level() / full).collect();
+            let mut touched = vec![false; w as usize];
+            let mut src = vec![0u8; w as usize * 4];
+            for layer in layers {
+                layer.rgba_row(y as u32, &mut src);
+                for (x, s) in src.chunks_exact(4).enumerate() {
+                    if s[3] == 0 {
+                        continue;
+                    }
+                    touched[x] = true;
+                    let a = s[3] as f32 / 255.0 * layer.opacity;
+                    for c in 0..3 {
+                        let b = acc[x * channels + c];
+                        let blended = layer.blend.blend(b, s[c] as f32 / 255.0);
+                        acc[x * channels + c] = b + (blended - b) * a;
+                    }
+                }
+            }
+            for (x, _) in touched.iter().enumerate().filter(|(_, t)| **t) {
+                for c in 0..3 {
+                    row[x * channels + c] = T::from_level(acc[x * channels + c] * full);
+                }
+            }
+        });
+    ImageBuffer::from_raw(w, h, out).expect("same size as the base")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::RgbImage;
+
+    fn tint(alpha: u8, blend: BlendMode, color: [u8; 3], opacity: f32) -> Layer {
+        Layer {
+            name: "t".into(),
+            blend,
+            opacity,
+            visible: true,
+            pixels: LayerPixels::Tint {
+                color,
+                alpha: GrayImage::from_pixel(2, 1, image::Luma([alpha])),
+            },
+        }
+    }
+
+    fn one(base: [u8; 3], layers: Vec<Layer>) -> [u8; 3] {
+        let stack = Stack {
+            base: std::sync::Arc::new(Photo::new(DynamicImage::ImageRgb8(RgbImage::from_pixel(
+                2,
+                1,
+                image::Rgb(base),
+            )))),
+            layers,
+            region: None,
+        };
+        stack.composite().to_rgb8().get_pixel(0, 0).0
+    }
+
+    /// Plain reference: the W3C formula with one rounding at the end.
+    fn reference(base: [u8; 3], l: &Layer) -> [u8; 3] {
+        let s = l.rgba(0, 0);
+        let a = s[3] as f32 / 255.0 * l.opacity;
+        let mut out = [0u8; 3];
+        for c in 0..3 {
+            let b = base[c] as f32 / 255.0;
+            let src = s[c] as f32 / 255.0;
+            let blended = match l.blend {
+                BlendMode::Normal => src,
+                BlendMode::Multiply => b * src,
+            };
+            out[c] = ((b * (1.0 - a) + blended * a) * 255.0).round() as u8;
+        }
+        out
+    }
+
+    #[test]
+    fn transparent_layers_leave_base_exact() {
+        let base = [13, 200, 77];
+        assert_eq!(one(base, vec![tint(0, BlendMode::Multiply, [0, 0, 0], 1.0)]), base);
+    }
+
+    #[test]
+    fn blends_match_reference_formula() {
+        use proptest::prelude::*;
+        proptest!(|(b in any::<[u8; 3]>(), c in any::<[u8; 3]>(), a in any::<u8>(), o in 0.0f32..=1.0, m in any::<bool>())| {
+            let blend = if m { BlendMode::Multiply } else { BlendMode::Normal };
+            let l = tint(a, blend, c, o);
+            let want = reference(b, &l);
+            let got = one(b, vec![l]);
+            for ch in 0..3 {
+                prop_assert!((got[ch] as i32 - want[ch] as i32).abs() <= 1, "{got:?} vs {want:?}");
+            }
+        });
+    }
+
+    #[test]
+    fn multiply_never_lightens() {
+        let base = [120, 130, 140];
+        let out = one(base, vec![tint(255, BlendMode::Multiply, [200, 255, 10], 1.0)]);
+        assert!(out.iter().zip(base).all(|(o, b)| *o <= b));
+        assert_eq!(out[1], 130, "white multiplies to no change");
+    }
+
+    #[test]
+    fn hidden_layers_are_skipped() {
+        let base = [100, 100, 100];
+        let mut l = tint(255, BlendMode::Normal, [0, 0, 0], 1.0);
+        l.visible = false;
+        assert_eq!(one(base, vec![l]), base);
+    }
+}
