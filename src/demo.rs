@@ -97,19 +97,24 @@ fn inside(r: &(u32, u32, u32, u32), x: u32, y: u32) -> bool {
 pub fn facade(w: u32, h: u32) -> Demo {
     let l = layout(w, h);
     let frame = (w / 120).max(2);
+    let grain_noise = random::Noise::new(11, w, h, 3.0, 4);
+    let mottle_noise = random::Noise::new(12, w, h, 90.0, 4);
     let img = RgbImage::from_fn(w, h, |x, y| {
         let (fx, fy) = (x as f32, y as f32);
         if y < l.roof {
             let t = fy / l.roof as f32;
             return Rgb([(150.0 + 40.0 * t) as u8, (180.0 + 30.0 * t) as u8, 215]);
         }
-        let grain = random::fbm(11, fx, fy, 3.0) - 0.5;
-        let mottle = random::fbm(12, fx, fy, 90.0) - 0.5;
-        let shade = |base: [f32; 3], k: f32| {
-            Rgb(base.map(|c| (c * (1.0 + k)).clamp(0.0, 255.0) as u8))
-        };
+        let grain = grain_noise.at(fx, fy) - 0.5;
+        let mottle = mottle_noise.at(fx, fy) - 0.5;
+        let shade =
+            |base: [f32; 3], k: f32| Rgb(base.map(|c| (c * (1.0 + k)).clamp(0.0, 255.0) as u8));
         if y >= l.cornice.0 && y < l.cornice.1 {
-            let ridge = if (y - l.cornice.0) % 6 < 2 { -0.08 } else { 0.0 };
+            let ridge = if (y - l.cornice.0) % 6 < 2 {
+                -0.08
+            } else {
+                0.0
+            };
             return shade([226.0, 220.0, 204.0], 0.10 * grain + ridge);
         }
         if y >= l.cornice.1 && y < l.cornice.1 + 4 {
@@ -145,7 +150,10 @@ pub fn facade(w: u32, h: u32) -> Demo {
         [w as f32, l.cornice.1 as f32 + 3.0],
     ]];
     for s in &l.sills {
-        source_lines.push(vec![[s.0 as f32, s.3 as f32 + 2.0], [s.2 as f32, s.3 as f32 + 2.0]]);
+        source_lines.push(vec![
+            [s.0 as f32, s.3 as f32 + 2.0],
+            [s.2 as f32, s.3 as f32 + 2.0],
+        ]);
     }
     Demo {
         photo: Photo::new(DynamicImage::ImageRgb8(img)),
@@ -164,10 +172,18 @@ mod tests {
         let l = layout(480, 360);
         let region = d.region.as_ref().unwrap();
         let win = l.windows[0];
-        assert_eq!(region.get_pixel((win.0 + win.2) / 2 - 10, (win.1 + win.3) / 2)[0], 0);
+        assert_eq!(
+            region.get_pixel((win.0 + win.2) / 2 - 10, (win.1 + win.3) / 2)[0],
+            0
+        );
         assert_eq!(region.get_pixel(2, l.roof + 1)[0], 255);
         assert_eq!(d.source_lines.len(), 1 + l.sills.len());
-        assert!(d.source_lines.iter().skip(1).all(|s| s[0][1] > l.cornice.1 as f32));
+        assert!(
+            d.source_lines
+                .iter()
+                .skip(1)
+                .all(|s| s[0][1] > l.cornice.1 as f32)
+        );
     }
 
     #[test]

@@ -31,7 +31,9 @@ pub enum Error {
         path: PathBuf,
     },
     /// An image is larger than the decoding limits allow.
-    #[error("{path}: image is too large to decode safely ({reason}); grime refuses images over {max_pixels} pixels")]
+    #[error(
+        "{path}: image is too large to decode safely ({reason}); grime refuses images over {max_pixels} pixels"
+    )]
     TooLarge {
         /// The file involved.
         path: PathBuf,
@@ -49,7 +51,9 @@ pub enum Error {
         reason: String,
     },
     /// The region mask does not match the photo.
-    #[error("mask is {mask_w}x{mask_h} but the image is {img_w}x{img_h}; the mask must have the image's size")]
+    #[error(
+        "mask is {mask_w}x{mask_h} but the image is {img_w}x{img_h}; the mask must have the image's size"
+    )]
     MaskSize {
         /// Mask width.
         mask_w: u32,

@@ -66,12 +66,18 @@ impl Grid {
 
     /// Photo point to grid point.
     pub fn to_grid(&self, x: f32, y: f32) -> (f32, f32) {
-        ((x - self.x0 as f32) / self.scale, (y - self.y0 as f32) / self.scale)
+        (
+            (x - self.x0 as f32) / self.scale,
+            (y - self.y0 as f32) / self.scale,
+        )
     }
 
     /// Grid point to photo point.
     pub fn to_photo(&self, x: f32, y: f32) -> (f32, f32) {
-        (x * self.scale + self.x0 as f32, y * self.scale + self.y0 as f32)
+        (
+            x * self.scale + self.x0 as f32,
+            y * self.scale + self.y0 as f32,
+        )
     }
 
     fn cell_span(&self, g: usize, origin: u32, len: u32, cells: usize) -> (u32, u32) {
@@ -84,22 +90,24 @@ impl Grid {
     /// Area-averaged luminance B on the grid.
     pub fn luma(&self, photo: &Photo) -> Vec<f32> {
         let mut out = vec![0.0; self.width * self.height];
-        out.par_chunks_mut(self.width).enumerate().for_each(|(gy, row)| {
-            let (ya, yb) = self.cell_span(gy, self.y0, self.box_h, self.height);
-            let mut line = vec![0.0; photo.width() as usize];
-            let mut count = vec![0u32; self.width];
-            for y in ya..yb {
-                photo.luma_row(y, &mut line);
-                for (gx, (acc, n)) in row.iter_mut().zip(count.iter_mut()).enumerate() {
-                    let (xa, xb) = self.cell_span(gx, self.x0, self.box_w, self.width);
-                    *acc += line[xa as usize..xb as usize].iter().sum::<f32>();
-                    *n += xb - xa;
+        out.par_chunks_mut(self.width)
+            .enumerate()
+            .for_each(|(gy, row)| {
+                let (ya, yb) = self.cell_span(gy, self.y0, self.box_h, self.height);
+                let mut line = vec![0.0; photo.width() as usize];
+                let mut count = vec![0u32; self.width];
+                for y in ya..yb {
+                    photo.luma_row(y, &mut line);
+                    for (gx, (acc, n)) in row.iter_mut().zip(count.iter_mut()).enumerate() {
+                        let (xa, xb) = self.cell_span(gx, self.x0, self.box_w, self.width);
+                        *acc += line[xa as usize..xb as usize].iter().sum::<f32>();
+                        *n += xb - xa;
+                    }
                 }
-            }
-            for (acc, n) in row.iter_mut().zip(count) {
-                *acc /= n.max(1) as f32;
-            }
-        });
+                for (acc, n) in row.iter_mut().zip(count) {
+                    *acc /= n.max(1) as f32;
+                }
+            });
         out
     }
 
@@ -110,24 +118,34 @@ impl Grid {
             return vec![true; self.width * self.height];
         };
         let mut out = vec![false; self.width * self.height];
-        out.par_chunks_mut(self.width).enumerate().for_each(|(gy, row)| {
-            let (ya, yb) = self.cell_span(gy, self.y0, self.box_h, self.height);
-            for (gx, cell) in row.iter_mut().enumerate() {
-                let (xa, xb) = self.cell_span(gx, self.x0, self.box_w, self.width);
-                let mut wall = 0u32;
-                for y in ya..yb {
-                    wall += (xa..xb).filter(|&x| mask.get_pixel(x, y)[0] >= WALL).count() as u32;
+        out.par_chunks_mut(self.width)
+            .enumerate()
+            .for_each(|(gy, row)| {
+                let (ya, yb) = self.cell_span(gy, self.y0, self.box_h, self.height);
+                for (gx, cell) in row.iter_mut().enumerate() {
+                    let (xa, xb) = self.cell_span(gx, self.x0, self.box_w, self.width);
+                    let mut wall = 0u32;
+                    for y in ya..yb {
+                        wall += (xa..xb)
+                            .filter(|&x| mask.get_pixel(x, y)[0] >= WALL)
+                            .count() as u32;
+                    }
+                    *cell = 2 * wall >= (yb - ya) * (xb - xa);
                 }
-                *cell = 2 * wall >= (yb - ya) * (xb - xa);
-            }
-        });
+            });
         out
     }
 
     /// Upsamples grid values in 0..1 to a photo-sized 8-bit coverage map,
     /// bilinearly, weighted by the mask (value / 255). Pixels outside the
     /// mask get exactly 0.
-    pub fn upsample(&self, values: &[f32], mask: Option<&GrayImage>, photo_w: u32, photo_h: u32) -> GrayImage {
+    pub fn upsample(
+        &self,
+        values: &[f32],
+        mask: Option<&GrayImage>,
+        photo_w: u32,
+        photo_h: u32,
+    ) -> GrayImage {
         let mut out = GrayImage::new(photo_w, photo_h);
         let (gw, gh) = (self.width, self.height);
         // Per photo column: left cell, right cell, weight of the right one.
@@ -144,19 +162,27 @@ impl Grid {
             .skip(self.y0 as usize)
             .take(self.box_h as usize)
             .for_each(|(y, row)| {
-                let g = ((y as f32 - self.y0 as f32 + 0.5) / self.scale - 0.5).clamp(0.0, (gh - 1) as f32);
+                let g = ((y as f32 - self.y0 as f32 + 0.5) / self.scale - 0.5)
+                    .clamp(0.0, (gh - 1) as f32);
                 let (ra, rb, ty) = (g as usize, (g as usize + 1).min(gh - 1), g.fract());
-                let (top, bottom) = (&values[ra * gw..(ra + 1) * gw], &values[rb * gw..(rb + 1) * gw]);
-                for (i, &(a, b, tx)) in cols.iter().enumerate() {
-                    let x = self.x0 as usize + i;
-                    let weight = mask.map_or(1.0, |m| m.as_raw()[y * stride + x] as f32 / 255.0);
-                    if weight == 0.0 {
-                        continue;
-                    }
-                    let t = top[a] + (top[b] - top[a]) * tx;
-                    let u = bottom[a] + (bottom[b] - bottom[a]) * tx;
-                    let v = (t + (u - t) * ty) * weight;
-                    row[x] = (v * 255.0).round().clamp(0.0, 255.0) as u8;
+                let (top, bottom) = (
+                    &values[ra * gw..(ra + 1) * gw],
+                    &values[rb * gw..(rb + 1) * gw],
+                );
+                // Vertical interpolation once per grid column, then horizontal per pixel.
+                let line: Vec<f32> = top
+                    .iter()
+                    .zip(bottom)
+                    .map(|(t, b)| t + (b - t) * ty)
+                    .collect();
+                let x0 = self.x0 as usize;
+                let mask_row =
+                    mask.map(|m| &m.as_raw()[y * stride + x0..y * stride + x0 + cols.len()]);
+                let out = &mut row[x0..x0 + cols.len()];
+                for (i, (o, &(a, b, tx))) in out.iter_mut().zip(&cols).enumerate() {
+                    let weight = mask_row.map_or(255.0, |m| m[i] as f32);
+                    let v = (line[a] + (line[b] - line[a]) * tx) * weight;
+                    *o = (v + 0.5).clamp(0.0, 255.0) as u8;
                 }
             });
         out
@@ -205,7 +231,13 @@ mod tests {
 
     #[test]
     fn luma_is_area_averaged() {
-        let img = RgbImage::from_fn(4, 2, |x, _| if x % 2 == 0 { image::Rgb([0, 0, 0]) } else { image::Rgb([200, 200, 200]) });
+        let img = RgbImage::from_fn(4, 2, |x, _| {
+            if x % 2 == 0 {
+                image::Rgb([0, 0, 0])
+            } else {
+                image::Rgb([200, 200, 200])
+            }
+        });
         let photo = Photo::new(DynamicImage::ImageRgb8(img));
         let g = Grid::new(4, 2, None, 2).unwrap();
         assert_eq!((g.width, g.height), (2, 1));

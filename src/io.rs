@@ -113,6 +113,11 @@ pub fn load_image(path: &Path) -> Result<(DynamicImage, Option<Vec<u8>>)> {
             Error::UnknownFormat { path: path.to_path_buf() }
         });
     }
+    if reader.format() == Some(image::ImageFormat::Jpeg) {
+        // The JPEG decoder fills a truncated scan with grey instead of failing.
+        let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        jpeg_complete(&data).map_err(|reason| Error::Decode { path: path.to_path_buf(), reason })?;
+    }
     reader.limits(limits());
     let mut decoder = reader.into_decoder().map_err(|e| decode_error(path, e))?;
     let (w, h) = decoder.dimensions();
@@ -128,6 +133,54 @@ pub fn load_image(path: &Path) -> Result<(DynamicImage, Option<Vec<u8>>)> {
     let mut img = DynamicImage::from_decoder(decoder).map_err(|e| decode_error(path, e))?;
     img.apply_orientation(orientation);
     Ok((img, icc))
+}
+
+/// Checks that JPEG data is whole: its segments and scans run, marker by
+/// marker, up to the end-of-image marker. Bytes after that marker are
+/// allowed (some cameras append data there).
+///
+/// # Errors
+/// A short reason when the data is not JPEG or ends early (truncated).
+pub fn jpeg_complete(data: &[u8]) -> std::result::Result<(), String> {
+    const TRUNCATED: &str = "truncated: the file ends before the JPEG end-of-image marker";
+    if !data.starts_with(&[0xFF, 0xD8]) {
+        return Err("no JPEG start-of-image marker".into());
+    }
+    let mut i = 2;
+    loop {
+        // Decoders skip stray bytes between segments; so do we.
+        i += data[i.min(data.len())..].iter().position(|&b| b == 0xFF).ok_or(TRUNCATED)?;
+        while data.get(i) == Some(&0xFF) {
+            i += 1;
+        }
+        let marker = *data.get(i).ok_or(TRUNCATED)?;
+        i += 1;
+        match marker {
+            0xD9 => return Ok(()),
+            0x01 | 0xD0..=0xD7 => continue,
+            _ => {}
+        }
+        let len = match data.get(i..i + 2) {
+            Some(b) => u16::from_be_bytes([b[0], b[1]]) as usize,
+            None => return Err(TRUNCATED.into()),
+        };
+        if len < 2 || i + len > data.len() {
+            return Err(TRUNCATED.into());
+        }
+        i += len;
+        if marker == 0xDA {
+            // Entropy-coded data: runs to the next marker that is neither a
+            // stuffed 0xFF00 nor a restart marker.
+            loop {
+                i += data[i.min(data.len())..].iter().position(|&b| b == 0xFF).ok_or(TRUNCATED)?;
+                match data.get(i + 1) {
+                    None => return Err(TRUNCATED.into()),
+                    Some(0x00 | 0xD0..=0xD7 | 0xFF) => i += 1,
+                    Some(_) => break,
+                }
+            }
+        }
+    }
 }
 
 /// Loads a photo (see [`load_image`]).
@@ -288,6 +341,23 @@ mod tests {
     fn missing_folder_is_a_clear_error() {
         let err = write_atomic(Path::new("/nonexistent-grime/x.png"), |_| Ok(())).unwrap_err();
         assert!(err.to_string().contains("does not exist"), "{err}");
+    }
+
+    #[test]
+    fn truncated_jpeg_is_refused() {
+        let img = DynamicImage::ImageRgb8(image::RgbImage::from_fn(64, 48, |x, y| {
+            image::Rgb([(x * 4) as u8, (y * 5) as u8, ((x ^ y) * 3) as u8])
+        }));
+        let mut jpeg = Vec::new();
+        encode(&img, None, Format::Jpeg, Path::new("a.jpg"), &mut jpeg).unwrap();
+        assert_eq!(jpeg_complete(&jpeg), Ok(()));
+        let mut trailing = jpeg.clone();
+        trailing.extend_from_slice(b"camera junk");
+        assert_eq!(jpeg_complete(&trailing), Ok(()));
+        for cut in [3, 30, jpeg.len() / 2, jpeg.len() - 2] {
+            assert!(jpeg_complete(&jpeg[..cut]).is_err(), "cut at {cut}");
+        }
+        assert!(jpeg_complete(b"not a jpeg").is_err());
     }
 
     #[test]

@@ -13,17 +13,22 @@
 //! let mut preset = Preset::default();
 //! preset.rain.layers = 2;
 //! let out = pipeline::run(&scene, &preset, &Progress::none()).unwrap();
-//! assert_eq!(out.stack.layers.len(), 2);
+//! // 2 rainfalls, then moss, dust film and dust granules.
+//! assert_eq!(out.stack.layers.len(), 5);
 //! ```
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub mod batch;
 pub mod demo;
 pub mod effects;
 pub mod error;
 pub mod export;
 pub mod grid;
+#[cfg(feature = "gui")]
+pub mod gui;
 pub mod io;
+pub mod perspective;
 pub mod photo;
 pub mod pipeline;
 pub mod preset;

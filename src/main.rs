@@ -7,9 +7,19 @@ use clap::Parser;
 fn main() {
     let args = cli::Cli::parse();
     if let Err(err) = cli::dispatch(args) {
-        // One line: what was wrong and how to fix it.
-        let msg: Vec<String> = err.chain().map(|e| e.to_string()).collect();
-        eprintln!("grime: error: {}", msg.join(": "));
+        // One line: what was wrong and how to fix it. Library errors already
+        // include their cause, so a cause repeated down the chain is skipped.
+        let mut line = String::new();
+        for part in err.chain().map(|e| e.to_string()) {
+            if !line.contains(&part) {
+                line = if line.is_empty() {
+                    part
+                } else {
+                    format!("{line}: {part}")
+                };
+            }
+        }
+        eprintln!("grime: error: {}", line.replace('\n', " "));
         std::process::exit(1);
     }
 }

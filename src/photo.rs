@@ -65,8 +65,12 @@ impl Photo {
         let w = self.width() as usize;
         let y = y as usize;
         match &self.image {
-            DynamicImage::ImageRgb8(i) => fill(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0, out),
-            DynamicImage::ImageRgba8(i) => fill(&i.as_raw()[y * w * 4..(y + 1) * w * 4], 4, 1.0, out),
+            DynamicImage::ImageRgb8(i) => {
+                fill(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0, out)
+            }
+            DynamicImage::ImageRgba8(i) => {
+                fill(&i.as_raw()[y * w * 4..(y + 1) * w * 4], 4, 1.0, out)
+            }
             DynamicImage::ImageRgb16(i) => {
                 fill(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0 / 257.0, out)
             }

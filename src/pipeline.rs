@@ -4,10 +4,13 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use image::GrayImage;
+use image::{GrayImage, RgbImage};
 use serde::Serialize;
 
+use crate::effects::dust::{self, DustStats};
+use crate::effects::moss::{self, MossInput, MossStats, Wet};
 use crate::effects::rain::{self, LayerStats, RainInput, RainOutput};
+use crate::effects::region::Region;
 use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::photo::Photo;
@@ -22,6 +25,9 @@ pub struct Scene {
     pub photo: Arc<Photo>,
     /// Wall region, photo-sized, 255 = wall; `None` = the whole photo.
     pub region: Option<Arc<GrayImage>>,
+    /// Tangent-space normal map of the wall, photo-sized, for the dust's
+    /// per-pixel view and light angles (see [`crate::effects::dust::shade`]).
+    pub normals: Option<Arc<RgbImage>>,
 }
 
 impl Scene {
@@ -43,7 +49,21 @@ impl Scene {
         Ok(Scene {
             photo: Arc::new(photo),
             region: region.map(Arc::new),
+            normals: None,
         })
+    }
+
+    /// The scene with a normal map for the dust.
+    ///
+    /// # Errors
+    /// [`Error::MaskSize`] for a map of another size than the photo.
+    pub fn with_normals(mut self, normals: RgbImage) -> Result<Scene> {
+        let (w, h) = (self.photo.width(), self.photo.height());
+        if normals.dimensions() != (w, h) {
+            return Err(Error::MaskSize { mask_w: normals.width(), mask_h: normals.height(), img_w: w, img_h: h });
+        }
+        self.normals = Some(Arc::new(normals));
+        Ok(self)
     }
 }
 
@@ -110,6 +130,12 @@ pub struct Report {
     pub d_max: f32,
     /// Every layer, bottom to top.
     pub layers: Vec<LayerReport>,
+    /// Moss numbers (colonies, dots, coverage), when moss is enabled.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub moss: Option<MossStats>,
+    /// Dust numbers (particles per component, coverage), when dust is enabled.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dust: Option<DustStats>,
     /// Time per stage.
     pub timings: Vec<Timing>,
 }
@@ -174,7 +200,7 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
         region: &region,
         source_lines,
     };
-    let rain = rain::simulate(&input, &preset.rain, preset.seed, &progress.span(0.05, 0.8))?;
+    let rain = rain::simulate(&input, &preset.rain, preset.seed, &progress.span(0.05, 0.7))?;
     clock.lap("rain");
 
     let d_max = rain::stain::d_max(&rain.layers, preset.stain.percentile);
@@ -182,7 +208,7 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
     let mut reports = Vec::with_capacity(rain.layers.len());
     for (i, rl) in rain.layers.iter().enumerate() {
         progress.check()?;
-        progress.update("stain", 0.8 + 0.2 * i as f32 / rain.layers.len().max(1) as f32);
+        progress.update("stain", 0.7 + 0.1 * i as f32 / rain.layers.len().max(1) as f32);
         let cov = rain::stain::coverage(&rl.deposit, grid.width, grid.height, d_max, &preset.stain);
         let alpha = grid.upsample(&cov, mask, w, h);
         let layer = Layer {
@@ -195,16 +221,35 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
                 alpha,
             },
         };
-        reports.push(LayerReport {
-            name: layer.name.clone(),
-            blend: layer.blend,
-            opacity: layer.opacity,
-            coverage: layer.coverage(),
-            rain: Some(rl.stats.clone()),
-        });
+        reports.push(LayerReport::of(&layer, Some(rl.stats.clone())));
         layers.push(layer);
     }
     clock.lap("stain");
+
+    let wall = Region::new(w, h, mask)?;
+    let moss = match preset.moss.enabled {
+        false => None,
+        true => {
+            let input = moss_input(&grid, &luma, &region, &rain, preset);
+            let (layer, stats) = moss_layer(&input, &grid, &wall, preset, &progress.span(0.8, 0.9))?;
+            reports.push(LayerReport::of(&layer, None));
+            layers.push(layer);
+            clock.lap("moss");
+            Some(stats)
+        }
+    };
+    let dust = match preset.dust.enabled {
+        false => None,
+        true => {
+            let (new, stats) = dust_layers(&wall, scene.normals.as_deref(), preset, &progress.span(0.9, 1.0))?;
+            for layer in new {
+                reports.push(LayerReport::of(&layer, None));
+                layers.push(layer);
+            }
+            clock.lap("dust");
+            Some(stats)
+        }
+    };
     progress.update("done", 1.0);
 
     let report = Report {
@@ -218,6 +263,8 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
         droplets_per_layer: rain::droplet_count(&preset.rain, grid.width),
         d_max,
         layers: reports,
+        moss,
+        dust,
         timings: clock.timings,
     };
     Ok(Outcome {
@@ -230,4 +277,61 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
         rain,
         grid,
     })
+}
+
+impl LayerReport {
+    fn of(layer: &Layer, rain: Option<LayerStats>) -> LayerReport {
+        LayerReport {
+            name: layer.name.clone(),
+            blend: layer.blend,
+            opacity: layer.opacity,
+            coverage: layer.coverage(),
+            rain,
+        }
+    }
+}
+
+/// What moss grows from: the rain's final water and dirt, or (with no
+/// rainfall) the preset's humidity.
+fn moss_input<'a>(grid: &Grid, luma: &'a [f32], region: &'a [bool], rain: &'a RainOutput, preset: &Preset) -> MossInput<'a> {
+    let wet = (!rain.layers.is_empty()).then(|| Wet {
+        water: &rain.water,
+        saturation: preset.rain.saturation,
+        dirt: &rain.dirt,
+        d_max: moss::d_max(&rain.dirt, region, preset.stain.percentile),
+    });
+    MossInput { width: grid.width, height: grid.height, luma, region, wet }
+}
+
+/// The "moss" layer.
+fn moss_layer(input: &MossInput, grid: &Grid, wall: &Region, preset: &Preset, progress: &Progress) -> Result<(Layer, MossStats)> {
+    let grown = moss::grow(input, grid, wall, &preset.moss, preset.seed, progress)?;
+    let layer = Layer {
+        name: "moss".into(),
+        blend: BlendMode::Normal,
+        opacity: preset.moss.opacity,
+        visible: true,
+        pixels: LayerPixels::Rgba(grown.layer),
+    };
+    Ok((layer, grown.stats))
+}
+
+/// The "dust film" and "dust granules" layers.
+fn dust_layers(wall: &Region, normals: Option<&RgbImage>, preset: &Preset, progress: &Progress) -> Result<([Layer; 2], DustStats)> {
+    let p = &preset.dust;
+    let (film, granules, stats) = dust::accumulate(wall, normals, p, preset.seed, progress)?;
+    let layer = |name: &str, opacity: f32, pixels: LayerPixels| Layer {
+        name: name.into(),
+        blend: BlendMode::Normal,
+        opacity,
+        visible: true,
+        pixels,
+    };
+    let film = layer("dust film", p.film_opacity, LayerPixels::Rgba(film));
+    let granules = layer(
+        "dust granules",
+        p.granule_opacity,
+        LayerPixels::Tint { color: p.granule_color, alpha: granules },
+    );
+    Ok(([film, granules], stats))
 }

@@ -59,7 +59,10 @@ impl<'a> Progress<'a> {
     /// Reports that `fraction` (0..1) of the whole run is done.
     pub fn update(&self, stage: &str, fraction: f32) {
         if let Some(cb) = self.callback {
-            cb(stage, self.start + fraction.clamp(0.0, 1.0) * (self.end - self.start));
+            cb(
+                stage,
+                self.start + fraction.clamp(0.0, 1.0) * (self.end - self.start),
+            );
         }
     }
 

@@ -51,46 +51,123 @@ fn unit(h: u64) -> f32 {
     (h >> 40) as f32 / (1u64 << 24) as f32
 }
 
-/// Smooth fractal value noise (fBm, 4 octaves) in [0, 1].
+/// One octave of value noise: random values on a lattice `scale` pixels
+/// apart, interpolated with smoothstep. The lattice is computed once, so a
+/// sample costs a few loads and multiplies.
+#[derive(Debug, Clone)]
+struct Lattice {
+    cols: usize,
+    rows: usize,
+    inv_scale: f32,
+    values: Vec<f32>,
+}
+
+impl Lattice {
+    fn new(seed: u64, width: u32, height: u32, scale: f32) -> Lattice {
+        let scale = scale.max(0.5);
+        let cols = (width as f32 / scale) as usize + 2;
+        let rows = (height as f32 / scale) as usize + 2;
+        let values = (0..cols * rows)
+            .map(|i| unit(mix(seed ^ mix((i % cols) as u64 ^ mix((i / cols) as u64)))))
+            .collect();
+        Lattice {
+            cols,
+            rows,
+            inv_scale: 1.0 / scale,
+            values,
+        }
+    }
+
+    /// Lattice cell and smoothstep weight along one axis.
+    fn cell(&self, v: f32, cells: usize) -> (usize, f32) {
+        let g = (v * self.inv_scale).clamp(0.0, (cells - 2) as f32);
+        let i = g as usize;
+        (i, smooth(g - i as f32))
+    }
+
+    fn at(&self, x: f32, y: f32) -> f32 {
+        let (ix, tx) = self.cell(x, self.cols);
+        let (iy, ty) = self.cell(y, self.rows);
+        let v = &self.values;
+        let i = iy * self.cols + ix;
+        let top = v[i] + (v[i + 1] - v[i]) * tx;
+        let bottom = v[i + self.cols] + (v[i + self.cols + 1] - v[i + self.cols]) * tx;
+        top + (bottom - top) * ty
+    }
+
+    /// Adds `weight * noise` to a whole row, with per-column cells `cols`.
+    fn add_row(&self, y: f32, cols: &[(usize, f32)], weight: f32, out: &mut [f32]) {
+        let (iy, ty) = self.cell(y, self.rows);
+        let top = &self.values[iy * self.cols..(iy + 1) * self.cols];
+        let bottom = &self.values[(iy + 1) * self.cols..(iy + 2) * self.cols];
+        for (o, &(ix, tx)) in out.iter_mut().zip(cols) {
+            let t = top[ix] + (top[ix + 1] - top[ix]) * tx;
+            let b = bottom[ix] + (bottom[ix + 1] - bottom[ix]) * tx;
+            *o += weight * (t + (b - t) * ty);
+        }
+    }
+}
+
+/// Smooth fractal value noise (fBm) over a `width` x `height` area, in [0, 1].
 ///
-/// `scale` is the feature size of the coarsest octave in pixels.
+/// `scale` is the feature size of the coarsest octave in pixels; each further
+/// octave halves the size and the weight.
 /// ```
-/// let n = grime::random::fbm(7, 10.0, 3.0, 16.0);
+/// let noise = grime::random::Noise::new(7, 64, 64, 16.0, 4);
+/// let n = noise.at(10.0, 3.0);
 /// assert!((0.0..=1.0).contains(&n));
 /// ```
-pub fn fbm(seed: u64, x: f32, y: f32, scale: f32) -> f32 {
-    let mut sum = 0.0;
-    let mut amp = 0.5;
-    let mut norm = 0.0;
-    let mut f = 1.0 / scale.max(1e-3);
-    for octave in 0..4u64 {
-        sum += amp * value_noise(mix(seed ^ octave), x * f, y * f);
-        norm += amp;
-        amp *= 0.5;
-        f *= 2.0;
+#[derive(Debug, Clone)]
+pub struct Noise {
+    octaves: Vec<Lattice>,
+}
+
+impl Noise {
+    /// Noise with `octaves` octaves (at least 1).
+    pub fn new(seed: u64, width: u32, height: u32, scale: f32, octaves: u32) -> Noise {
+        let octaves = (0..octaves.max(1))
+            .map(|o| {
+                Lattice::new(
+                    mix(seed ^ o as u64),
+                    width,
+                    height,
+                    scale / (1u32 << o) as f32,
+                )
+            })
+            .collect();
+        Noise { octaves }
     }
-    (sum / norm).clamp(0.0, 1.0)
-}
 
-/// Smooth value noise (2 octaves) in [0, 1]: large features only, for
-/// fields that diffuse, where fine octaves would turn into speckle.
-pub fn smooth_noise(seed: u64, x: f32, y: f32, scale: f32) -> f32 {
-    let f = 1.0 / scale.max(1e-3);
-    let a = value_noise(mix(seed), x * f, y * f);
-    let b = value_noise(mix(seed ^ 1), x * f * 2.0, y * f * 2.0);
-    (a * 2.0 + b) / 3.0
-}
+    /// Fills `out` (row-major, `width` wide) with `amplitude * noise`, the
+    /// same values as [`Noise::at`] at pixel coordinates, much faster.
+    pub fn fill(&self, width: usize, amplitude: f32, out: &mut [f32]) {
+        use rayon::prelude::*;
+        let norm: f32 = (0..self.octaves.len()).map(|o| 0.5f32.powi(o as i32)).sum();
+        let tables: Vec<Vec<(usize, f32)>> = self
+            .octaves
+            .iter()
+            .map(|o| (0..width).map(|x| o.cell(x as f32, o.cols)).collect())
+            .collect();
+        out.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
+            row.fill(0.0);
+            let mut amp = amplitude / norm;
+            for (o, cols) in self.octaves.iter().zip(&tables) {
+                o.add_row(y as f32, cols, amp, row);
+                amp *= 0.5;
+            }
+        });
+    }
 
-fn value_noise(seed: u64, x: f32, y: f32) -> f32 {
-    let (xf, yf) = (x.floor(), y.floor());
-    let (ix, iy) = (xf as i64, yf as i64);
-    let (tx, ty) = (smooth(x - xf), smooth(y - yf));
-    let corner = |dx: i64, dy: i64| {
-        unit(mix(seed ^ mix((ix + dx) as u64 ^ mix((iy + dy) as u64))))
-    };
-    let top = corner(0, 0) + (corner(1, 0) - corner(0, 0)) * tx;
-    let bottom = corner(0, 1) + (corner(1, 1) - corner(0, 1)) * tx;
-    top + (bottom - top) * ty
+    /// The noise value at (x, y).
+    pub fn at(&self, x: f32, y: f32) -> f32 {
+        let (mut sum, mut amp, mut norm) = (0.0, 1.0, 0.0);
+        for o in &self.octaves {
+            sum += amp * o.at(x, y);
+            norm += amp;
+            amp *= 0.5;
+        }
+        sum / norm
+    }
 }
 
 fn smooth(t: f32) -> f32 {
@@ -125,16 +202,28 @@ mod tests {
     }
 
     #[test]
-    fn fbm_is_smooth_and_in_range() {
+    fn noise_is_smooth_and_in_range() {
+        let noise = Noise::new(9, 500, 10, 32.0, 4);
         let mut max_step: f32 = 0.0;
         for i in 0..1000 {
             let x = i as f32 * 0.5;
-            let a = fbm(9, x, 3.0, 32.0);
-            let b = fbm(9, x + 0.5, 3.0, 32.0);
+            let a = noise.at(x, 3.0);
+            let b = noise.at(x + 0.5, 3.0);
             assert!((0.0..=1.0).contains(&a));
             max_step = max_step.max((a - b).abs());
         }
         assert!(max_step < 0.2, "noise jumps by {max_step} in half a pixel");
+    }
+
+    #[test]
+    fn fill_matches_at() {
+        let noise = Noise::new(3, 40, 30, 8.0, 3);
+        let mut out = vec![0.0; 40 * 30];
+        noise.fill(40, 2.0, &mut out);
+        for (i, v) in out.iter().enumerate() {
+            let want = 2.0 * noise.at((i % 40) as f32, (i / 40) as f32);
+            assert!((v - want).abs() < 1e-5, "{v} vs {want}");
+        }
     }
 
     #[test]

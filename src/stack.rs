@@ -106,7 +106,9 @@ impl Layer {
                     o.copy_from_slice(&[color[0], color[1], color[2], a]);
                 }
             }
-            LayerPixels::Rgba(img) => out.copy_from_slice(&img.as_raw()[y * w * 4..(y + 1) * w * 4]),
+            LayerPixels::Rgba(img) => {
+                out.copy_from_slice(&img.as_raw()[y * w * 4..(y + 1) * w * 4])
+            }
         }
     }
 
@@ -130,7 +132,10 @@ impl Layer {
                 alpha.as_raw().len(),
             ),
             LayerPixels::Rgba(img) => (
-                img.as_raw().par_chunks_exact(4).map(|p| p[3] as u64).sum::<u64>(),
+                img.as_raw()
+                    .par_chunks_exact(4)
+                    .map(|p| p[3] as u64)
+                    .sum::<u64>(),
                 img.as_raw().len() / 4,
             ),
         };
@@ -262,15 +267,14 @@ mod tests {
     }
 
     fn one(base: [u8; 3], layers: Vec<Layer>) -> [u8; 3] {
-        let stack = Stack {
-            base: std::sync::Arc::new(Photo::new(DynamicImage::ImageRgb8(RgbImage::from_pixel(
-                2,
-                1,
-                image::Rgb(base),
-            )))),
-            layers,
-            region: None,
-        };
+        let stack =
+            Stack {
+                base: std::sync::Arc::new(Photo::new(DynamicImage::ImageRgb8(
+                    RgbImage::from_pixel(2, 1, image::Rgb(base)),
+                ))),
+                layers,
+                region: None,
+            };
         stack.composite().to_rgb8().get_pixel(0, 0).0
     }
 
@@ -294,7 +298,10 @@ mod tests {
     #[test]
     fn transparent_layers_leave_base_exact() {
         let base = [13, 200, 77];
-        assert_eq!(one(base, vec![tint(0, BlendMode::Multiply, [0, 0, 0], 1.0)]), base);
+        assert_eq!(
+            one(base, vec![tint(0, BlendMode::Multiply, [0, 0, 0], 1.0)]),
+            base
+        );
     }
 
     #[test]
@@ -314,7 +321,10 @@ mod tests {
     #[test]
     fn multiply_never_lightens() {
         let base = [120, 130, 140];
-        let out = one(base, vec![tint(255, BlendMode::Multiply, [200, 255, 10], 1.0)]);
+        let out = one(
+            base,
+            vec![tint(255, BlendMode::Multiply, [200, 255, 10], 1.0)],
+        );
         assert!(out.iter().zip(base).all(|(o, b)| *o <= b));
         assert_eq!(out[1], 130, "white multiplies to no change");
     }

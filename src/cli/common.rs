@@ -29,7 +29,9 @@ impl PresetFlags {
     pub fn resolve(&self) -> anyhow::Result<Preset> {
         let mut p = match &self.preset {
             None => Preset::default(),
-            Some(name) if !name.ends_with(".toml") && !Path::new(name).exists() => preset::builtin(name)?,
+            Some(name) if !name.ends_with(".toml") && !Path::new(name).exists() => {
+                preset::builtin(name)?
+            }
             Some(file) => {
                 let text = std::fs::read_to_string(file)
                     .with_context(|| format!("{file}: cannot read preset"))?;

@@ -1,6 +1,9 @@
 //! Subcommands. clap's doc comments are the `--help` text.
 
+mod batch;
 mod common;
+#[cfg(feature = "gui")]
+mod gui;
 mod preset;
 mod run;
 
@@ -19,14 +22,22 @@ pub struct Cli {
 enum Command {
     /// Age one photo.
     Run(run::RunArgs),
+    /// Age every photo in a folder, in parallel.
+    Batch(batch::BatchArgs),
     /// Print a preset as commented TOML (start your own from it).
     Preset(preset::PresetArgs),
+    /// Open the interactive editor (region, source lines, perspective, live preview).
+    #[cfg(feature = "gui")]
+    Gui(gui::GuiArgs),
 }
 
 /// Runs the chosen subcommand.
 pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Run(args) => run::run(args),
+        Command::Batch(args) => batch::run(args),
         Command::Preset(args) => preset::run(args),
+        #[cfg(feature = "gui")]
+        Command::Gui(args) => gui::run(args),
     }
 }

@@ -24,7 +24,10 @@ pub fn run(args: PresetArgs) -> anyhow::Result<()> {
         }
     } else if args.params {
         for p in PARAMS {
-            println!("{:28} {:8} {} ..= {}  {}", p.path, p.symbol, p.min, p.max, p.doc);
+            println!(
+                "{:28} {:8} {} ..= {}  {}",
+                p.path, p.symbol, p.min, p.max, p.doc
+            );
         }
     } else {
         print!("{}", preset::builtin(&args.name)?.to_commented_toml());

@@ -17,6 +17,11 @@ use super::common::{PresetFlags, progress_bar};
 /// The output format follows the extension of -o: .png .jpg .tif .webp give
 /// the flattened image.
 #[derive(Debug, Args)]
+#[command(after_help = "Examples:
+  grime run --demo -o aged.png
+  grime run facade.jpg -o aged.png --mask wall.png --layers 12 --seed 7
+  grime run facade.jpg -o aged.png --preset heavy-rain --set rain.k_a=0.7
+  grime run facade.jpg -o aged.png --layers-dir layers/ --report report.json")]
 pub struct RunArgs {
     /// The photo to age (PNG, JPEG, TIFF or WebP; 8 or 16 bit).
     #[arg(required_unless_present = "demo")]
@@ -71,13 +76,21 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     }
     let scene = Scene::new(photo, region)?;
 
-    let bar = progress_bar(args.quiet, 1000, "{spinner} {msg:8} [{bar:40}] {percent:>3}% {elapsed}");
+    let bar = progress_bar(
+        args.quiet,
+        1000,
+        "{spinner} {msg:8} [{bar:40}] {percent:>3}% {elapsed}",
+    );
     let cancel = AtomicBool::new(false);
     let update = |stage: &str, f: f32| {
         bar.set_message(stage.to_string());
         bar.set_position((f * 1000.0) as u64);
     };
-    let outcome = pipeline::run(&scene, &preset, &Progress::new(Some(&update), Some(&cancel)))?;
+    let outcome = pipeline::run(
+        &scene,
+        &preset,
+        &Progress::new(Some(&update), Some(&cancel)),
+    )?;
     bar.finish_and_clear();
 
     export::save(&outcome.stack, &args.output)?;
@@ -96,7 +109,10 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
 
 fn refuse_overwrite(input: &Path, output: &Path) -> anyhow::Result<()> {
     if io::same_file(input, output) {
-        return Err(grime::Error::WouldOverwriteInput { path: output.to_path_buf() }.into());
+        return Err(grime::Error::WouldOverwriteInput {
+            path: output.to_path_buf(),
+        }
+        .into());
     }
     Ok(())
 }

@@ -1,5 +1,10 @@
 //! `--layers-dir`: one RGBA PNG per layer at photo size (transparent where the
-//! layer has no effect) and a `manifest.json` listing them in stacking order.
+//! layer has no effect) and a `manifest.json` listing them in stacking order,
+//! bottom first, starting with the original photo (`00-photo.png`, at the
+//! photo's bit depth). The layers composite with the formulas of
+//! [`crate::stack`]. When the stack has a region, it is written as
+//! `region.png` (greyscale, white = wall) and named by the manifest's
+//! `region` field; it is not a layer of the picture.
 
 use std::path::Path;
 
@@ -34,12 +39,21 @@ pub struct Manifest {
     pub height: u32,
     /// Layers bottom to top; the first is the original photo.
     pub layers: Vec<ManifestLayer>,
+    /// File of the region mask (white = wall), when there is one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub region: Option<String>,
 }
 
 /// File-name-safe form of a layer name.
 pub fn slug(name: &str) -> String {
     name.chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '-' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
         .collect()
 }
 
@@ -52,7 +66,11 @@ pub fn write(stack: &Stack, dir: &Path) -> Result<Manifest> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     let mut layers = Vec::with_capacity(stack.layers.len() + 1);
     let photo_file = "00-photo.png".to_string();
-    io::save_image(stack.base.image(), stack.base.icc.as_deref(), &dir.join(&photo_file))?;
+    io::save_image(
+        stack.base.image(),
+        stack.base.icc.as_deref(),
+        &dir.join(&photo_file),
+    )?;
     layers.push(ManifestLayer {
         name: "photo".into(),
         file: photo_file,
@@ -73,13 +91,27 @@ pub fn write(stack: &Stack, dir: &Path) -> Result<Manifest> {
             visible: layer.visible,
         });
     }
+    let region = match stack.region.as_deref() {
+        Some(mask) => {
+            let file = "region.png".to_string();
+            let path = dir.join(&file);
+            let img = DynamicImage::ImageLuma8(mask.clone());
+            io::write_atomic(&path, |out| io::encode(&img, None, Format::Png, &path, out))?;
+            Some(file)
+        }
+        None => None,
+    };
     let manifest = Manifest {
         width: stack.base.width(),
         height: stack.base.height(),
         layers,
+        region,
     };
     let path = dir.join("manifest.json");
-    let text = serde_json::to_string_pretty(&manifest).map_err(|e| Error::Preset(e.to_string()))?;
+    let text = serde_json::to_string_pretty(&manifest).map_err(|e| Error::Encode {
+        path: path.clone(),
+        reason: e.to_string(),
+    })?;
     io::write_atomic(&path, |out| {
         std::io::Write::write_all(out, text.as_bytes()).map_err(|e| Error::io(&path, e))
     })?;

@@ -2,6 +2,8 @@
 //! manifest, and (see the submodules) layered documents.
 
 pub mod layers_dir;
+pub mod ora;
+pub mod psd;
 
 use std::path::Path;
 
@@ -16,7 +18,8 @@ use crate::stack::Stack;
 /// [`crate::Error::UnknownFormat`], I/O and encoding errors.
 pub fn save(stack: &Stack, path: &Path) -> Result<()> {
     match Format::from_path(path)? {
-        Format::Psd | Format::Ora => Err(crate::Error::UnknownFormat { path: path.to_path_buf() }),
+        Format::Psd => psd::write(stack, path),
+        Format::Ora => ora::write(stack, path),
         _ => io::save_image(&stack.composite(), stack.base.icc.as_deref(), path),
     }
 }

@@ -26,6 +26,10 @@ pub struct Preset {
     pub rain: RainParams,
     /// How rain dirt is drawn onto the photo.
     pub stain: StainParams,
+    /// Moss colonies where the wall stays wet and dirty (Chang eq. 18).
+    pub moss: MossParams,
+    /// Dust settling over days (Santos & Baranoski eqs. 1-11).
+    pub dust: DustParams,
 }
 
 impl Default for Preset {
@@ -35,6 +39,8 @@ impl Default for Preset {
             sim: SimParams::default(),
             rain: RainParams::default(),
             stain: StainParams::default(),
+            moss: MossParams::default(),
+            dust: DustParams::default(),
         }
     }
 }
@@ -97,6 +103,10 @@ pub struct RainParams {
     /// Safety cap on steps per droplet.
     pub max_steps: u32,
     /// Amplitude of the initial dirt I_D0 (noise in 0..initial_dirt).
+    /// [choice] Chang's Table 1 draws I_D0 in 0..5; here it is fresh grime
+    /// added before every rainfall (eq. 12), and at 5 the droplets dissolve
+    /// and re-deposit so much of it that blotches drown the streaks, so the
+    /// default is 2 (`chang-table1` keeps 5).
     pub initial_dirt: f32,
     /// Feature size of the initial-dirt noise, in grid pixels.
     pub initial_dirt_scale: f32,
@@ -141,7 +151,7 @@ impl Default for RainParams {
             v_max: 1.0,
             dt: 0.01,
             max_steps: 20_000,
-            initial_dirt: 5.0,
+            initial_dirt: 2.0,
             initial_dirt_scale: 48.0,
             ledge_dirt: 3.0,
             delta: 0.01,
@@ -184,6 +194,215 @@ impl Default for StainParams {
     }
 }
 
+/// Moss colour, one of the two Chang chooses for Caloplaca lichen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MossColor {
+    /// RGB(180, 130, 0).
+    Orange,
+    /// RGB(140, 130, 80).
+    YellowGreen,
+}
+
+impl MossColor {
+    /// The sRGB colour (Chang sec. 4).
+    pub fn rgb(self) -> [u8; 3] {
+        match self {
+            MossColor::Orange => [180, 130, 0],
+            MossColor::YellowGreen => [140, 130, 80],
+        }
+    }
+}
+
+/// Moss parameters (Chang, Yoshida & Mukai sec. 4, eq. 18, plus clustering
+/// and growth over the years).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MossParams {
+    /// Whether moss grows.
+    pub enabled: bool,
+    /// Years of growth (the GUI's time slider).
+    pub years: u32,
+    /// Probability factor gamma of eq. 18 (Chang Table 1: 1.5).
+    pub gamma: f32,
+    /// Wetness used instead of the rain's water and dirt when there is no rain.
+    pub humidity: f32,
+    /// Colony colour.
+    pub color: MossColor,
+    /// Random change of each dot's R, G and B, up to this many levels.
+    pub color_jitter: f32,
+    /// Layer opacity.
+    pub opacity: f32,
+    /// Fractal baseline as a fraction of the region's width (Chang: 1/40).
+    pub baseline: f32,
+    /// Generator iterations (vertices per arm = 4^iterations + 1).
+    pub iterations: u32,
+    /// Height of the generator's peak, fraction of its base.
+    pub peak: f32,
+    /// Dot radius, fraction of the baseline.
+    pub dot_size: f32,
+    /// Candidate sites tested with eq. 18 per baseline^2 of wall per year.
+    pub seed_rate: f32,
+    /// Chance per colony per year of seeding a neighbour.
+    pub spread: f32,
+    /// Typical distance of a neighbour, in baselines.
+    pub spread_distance: f32,
+    /// Spread of colony sizes (log-normal sigma).
+    pub size_spread: f32,
+    /// Years a colony takes to reach full size.
+    pub maturity: f32,
+}
+
+impl Default for MossParams {
+    fn default() -> Self {
+        MossParams {
+            enabled: true,
+            years: 10,
+            gamma: 1.5,
+            humidity: 0.5,
+            color: MossColor::YellowGreen,
+            color_jitter: 24.0,
+            opacity: 0.9,
+            baseline: 1.0 / 40.0,
+            iterations: 3,
+            peak: 0.45,
+            dot_size: 0.03,
+            seed_rate: 0.5,
+            spread: 0.6,
+            spread_distance: 0.8,
+            size_spread: 0.5,
+            maturity: 6.0,
+        }
+    }
+}
+
+/// Dust accumulation environments: Santos & Baranoski's measured rates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DustEnvironment {
+    /// Low human activity: film (2.4, 0.8), mask (0.1, 0).
+    LowActivity,
+    /// High human activity: film (2.8, 25.7), mask (1.3, 0.3).
+    HighActivity,
+    /// A steeper first five days: film (11.1, 5.1) then (2.8, 0); mask (1.3, 0.3).
+    SteepStart,
+    /// The paper's desktop scene: film (10, 25.7), mask (0.1, 0).
+    Desktop,
+    /// The rates in `film_segments` and `mask_segments`.
+    Custom,
+}
+
+/// One piece of a piecewise accumulation rate (Santos eq. 1 per piece).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Segment {
+    /// Days this rate lasts; 0 = until the end.
+    pub days: u32,
+    /// Elements per in^2 per day.
+    pub alpha: f64,
+    /// Extra elements per in^2 on the segment's first day.
+    pub beta: f64,
+}
+
+impl Segment {
+    /// A segment.
+    pub const fn new(days: u32, alpha: f64, beta: f64) -> Segment {
+        Segment { days, alpha, beta }
+    }
+}
+
+impl DustEnvironment {
+    /// (film, mask) segments of this environment; `None` for `Custom`.
+    pub fn segments(self) -> Option<(Vec<Segment>, Vec<Segment>)> {
+        let s = Segment::new;
+        Some(match self {
+            DustEnvironment::LowActivity => (vec![s(0, 2.4, 0.8)], vec![s(0, 0.1, 0.0)]),
+            DustEnvironment::HighActivity => (vec![s(0, 2.8, 25.7)], vec![s(0, 1.3, 0.3)]),
+            DustEnvironment::SteepStart => {
+                (vec![s(5, 11.1, 5.1), s(0, 2.8, 0.0)], vec![s(0, 1.3, 0.3)])
+            }
+            DustEnvironment::Desktop => (vec![s(0, 10.0, 25.7)], vec![s(0, 0.1, 0.0)]),
+            DustEnvironment::Custom => return None,
+        })
+    }
+}
+
+/// Dust parameters (Santos & Baranoski 2022).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DustParams {
+    /// Whether dust settles.
+    pub enabled: bool,
+    /// Days of accumulation (the GUI's time slider).
+    pub days: u32,
+    /// Accumulation rates: a measured environment, or `custom`.
+    pub environment: DustEnvironment,
+    /// Custom film rates, used when `environment = "custom"`.
+    pub film_segments: Vec<Segment>,
+    /// Custom granule rates, used when `environment = "custom"`.
+    pub mask_segments: Vec<Segment>,
+    /// Pixels per inch of the wall; sets the area A of eq. 1.
+    pub ppi: f64,
+    /// The three grey levels of fine particles.
+    pub film_greys: [u8; 3],
+    /// Opacity weight of each grey (eq. 3).
+    pub film_weights: [f32; 3],
+    /// Weighted count at which the film is opaque (eq. 4).
+    pub anp_max: f32,
+    /// Colour of coarse elements (eq. 7).
+    pub granule_color: [u8; 3],
+    /// Largest width of a coarse element, pixels (Santos Table 1: 12..36).
+    pub granule_size: f32,
+    /// Share of arcs among coarse elements.
+    pub arc_share: f32,
+    /// Share of clumps among coarse elements.
+    pub clump_share: f32,
+    /// Share of hairs among coarse elements.
+    pub hair_share: f32,
+    /// Viewing angle from the wall's normal, degrees (eq. 8).
+    pub theta_v: f32,
+    /// Light incidence angle from the wall's normal, degrees (eq. 9).
+    pub theta_i: f32,
+    /// Opacity of the film layer.
+    pub film_opacity: f32,
+    /// Opacity of the granules layer.
+    pub granule_opacity: f32,
+}
+
+impl Default for DustParams {
+    fn default() -> Self {
+        DustParams {
+            enabled: true,
+            days: 365,
+            environment: DustEnvironment::LowActivity,
+            film_segments: Vec::new(),
+            mask_segments: Vec::new(),
+            ppi: 150.0,
+            film_greys: [100, 150, 200],
+            film_weights: [1.0, 0.8, 0.6],
+            anp_max: 1.2,
+            granule_color: [220, 220, 220],
+            granule_size: 24.0,
+            arc_share: 0.3,
+            clump_share: 0.4,
+            hair_share: 0.3,
+            theta_v: 60.0,
+            theta_i: 45.0,
+            film_opacity: 1.0,
+            granule_opacity: 1.0,
+        }
+    }
+}
+
+impl DustParams {
+    /// (film, mask) rate segments: the environment's, or the custom lists.
+    pub fn segments(&self) -> (Vec<Segment>, Vec<Segment>) {
+        self.environment
+            .segments()
+            .unwrap_or_else(|| (self.film_segments.clone(), self.mask_segments.clone()))
+    }
+}
+
 impl Preset {
     /// Parses a TOML preset and validates it.
     ///
@@ -208,20 +427,26 @@ impl Preset {
     pub fn validate(&self) -> Result<()> {
         let value = toml::Value::try_from(self).map_err(|e| Error::Preset(e.to_string()))?;
         for spec in PARAMS {
-            let Some(v) = lookup(&value, spec.path) else {
-                continue;
-            };
-            let x = match v {
-                toml::Value::Integer(i) => *i as f64,
-                toml::Value::Float(f) => *f,
-                _ => continue,
-            };
-            if !(x.is_finite() && x >= spec.min && x <= spec.max) {
-                return Err(Error::OutOfRange {
-                    field: spec.path.to_string(),
-                    value: v.to_string(),
-                    range: format!("{} ..= {}", spec.min, spec.max),
-                });
+            let keys: Vec<&str> = spec.path.split('.').collect();
+            let mut found = Vec::new();
+            leaves(&value, &keys, &mut found);
+            for v in found {
+                let x = match v {
+                    toml::Value::Integer(i) => *i as f64,
+                    toml::Value::Float(f) => *f,
+                    _ => continue,
+                };
+                if !(x.is_finite() && x >= spec.min && x <= spec.max) {
+                    let value = match v {
+                        toml::Value::Float(f) => (*f as f32).to_string(),
+                        other => other.to_string(),
+                    };
+                    return Err(Error::OutOfRange {
+                        field: spec.path.to_string(),
+                        value,
+                        range: format!("{} ..= {}", spec.min, spec.max),
+                    });
+                }
             }
         }
         for (i, line) in self.rain.source_lines.iter().enumerate() {
@@ -245,6 +470,40 @@ impl Preset {
                 field: "rain.mass_min".into(),
                 value: self.rain.mass_min.to_string(),
                 range: format!("below rain.mass_max ({})", self.rain.mass_max),
+            });
+        }
+        self.validate_dust()
+    }
+
+    fn validate_dust(&self) -> Result<()> {
+        let d = &self.dust;
+        let custom = d.environment == DustEnvironment::Custom;
+        for (name, segments) in [
+            ("film_segments", &d.film_segments),
+            ("mask_segments", &d.mask_segments),
+        ] {
+            if custom && segments.is_empty() {
+                return Err(Error::OutOfRange {
+                    field: format!("dust.{name}"),
+                    value: "[]".into(),
+                    range: "at least one { days, alpha, beta } segment when dust.environment = \"custom\"".into(),
+                });
+            }
+            if !custom && !segments.is_empty() {
+                return Err(Error::OutOfRange {
+                    field: format!("dust.{name}"),
+                    value: format!("{} segment(s)", segments.len()),
+                    range:
+                        "empty unless dust.environment = \"custom\" (set it to use your own rates)"
+                            .into(),
+                });
+            }
+        }
+        if d.arc_share + d.clump_share + d.hair_share <= 0.0 {
+            return Err(Error::OutOfRange {
+                field: "dust.arc_share".into(),
+                value: d.arc_share.to_string(),
+                range: "arc_share + clump_share + hair_share above 0".into(),
             });
         }
         Ok(())
@@ -327,8 +586,19 @@ fn push_field(out: &mut String, path: &str, key: &str, v: &toml::Value) {
     out.push_str(&format!("{key} = {v}\n"));
 }
 
-fn lookup<'a>(v: &'a toml::Value, path: &str) -> Option<&'a toml::Value> {
-    path.split('.').try_fold(v, |v, k| v.get(k))
+/// Every value at `keys` below `v`; arrays fan out (each element is looked
+/// up with the same remaining keys), so `stain.color` yields three numbers
+/// and `dust.film_segments.alpha` one per segment.
+fn leaves<'a>(v: &'a toml::Value, keys: &[&str], out: &mut Vec<&'a toml::Value>) {
+    match (v, keys.split_first()) {
+        (toml::Value::Array(items), _) => items.iter().for_each(|item| leaves(item, keys, out)),
+        (_, None) => out.push(v),
+        (_, Some((k, rest))) => {
+            if let Some(child) = v.get(*k) {
+                leaves(child, rest, out);
+            }
+        }
+    }
 }
 
 fn lookup_mut<'a>(v: &'a mut toml::Value, path: &str) -> Option<&'a mut toml::Value> {
@@ -362,6 +632,7 @@ pub fn builtin(name: &str) -> Result<Preset> {
             p.rain.k_s = 0.7;
             p.rain.k_a = 0.5;
             p.rain.r = 100.0;
+            p.rain.initial_dirt = 5.0;
         }
         "light-rain" => p.rain.layers = 4,
         "heavy-rain" => {
@@ -379,4 +650,108 @@ pub fn builtin(name: &str) -> Result<Preset> {
         }
     }
     Ok(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Dotted paths of every numeric leaf below `v`; array elements share
+    /// their array's path, so a list of segments gives `….alpha` once per item.
+    fn numeric_leaves(v: &toml::Value, path: &str, out: &mut Vec<String>) {
+        match v {
+            toml::Value::Integer(_) | toml::Value::Float(_) => out.push(path.to_string()),
+            toml::Value::Array(items) => items.iter().for_each(|i| numeric_leaves(i, path, out)),
+            toml::Value::Table(t) => {
+                for (k, child) in t {
+                    let p = if path.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{path}.{k}")
+                    };
+                    numeric_leaves(child, &p, out);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    #[test]
+    fn every_parameter_has_a_spec() {
+        // The default preset, plus the custom dust lists filled in so their
+        // leaves are seen too.
+        let mut p = Preset::default();
+        p.dust.environment = DustEnvironment::Custom;
+        p.dust.film_segments = vec![Segment::new(5, 11.1, 5.1), Segment::new(0, 2.8, 0.0)];
+        p.dust.mask_segments = vec![Segment::new(0, 1.3, 0.3)];
+        p.validate().unwrap();
+        let mut paths = Vec::new();
+        numeric_leaves(&toml::Value::try_from(&p).unwrap(), "", &mut paths);
+        assert!(
+            paths.iter().any(|p| p == "dust.film_segments.alpha"),
+            "{paths:?}"
+        );
+        let missing: Vec<_> = paths.iter().filter(|p| param(p).is_none()).collect();
+        assert!(
+            missing.is_empty(),
+            "parameters without a PARAMS entry: {missing:?}"
+        );
+        for spec in PARAMS {
+            assert!(
+                !spec.doc.is_empty() && spec.min <= spec.max,
+                "{}",
+                spec.path
+            );
+        }
+    }
+
+    #[test]
+    fn moss_and_dust_sections_round_trip_and_validate() {
+        let mut p = Preset::default();
+        p.set("moss.color=orange").unwrap();
+        p.set("dust.environment=steep-start").unwrap();
+        p.set("dust.days=200").unwrap();
+        assert_eq!(p.moss.color, MossColor::Orange);
+        let back = Preset::from_toml(&p.to_toml()).unwrap();
+        assert_eq!(back, p);
+        assert!(
+            p.to_commented_toml()
+                .contains("# Days of dust accumulation")
+        );
+        let (film, mask) = p.dust.segments();
+        assert_eq!((film.len(), mask.len()), (2, 1));
+    }
+
+    #[test]
+    fn array_elements_and_custom_segments_are_checked() {
+        let mut p = Preset::default();
+        p.dust.film_weights = [1.0, -0.5, 1.0];
+        let e = p.validate().unwrap_err().to_string();
+        assert!(e.contains("dust.film_weights"), "{e}");
+
+        let mut p = Preset::default();
+        p.dust.environment = DustEnvironment::Custom;
+        assert!(
+            p.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("dust.film_segments")
+        );
+        p.dust.film_segments = vec![Segment::new(0, -1.0, 0.0)];
+        p.dust.mask_segments = vec![Segment::new(0, 1.0, 0.0)];
+        assert!(
+            p.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("dust.film_segments.alpha")
+        );
+
+        let mut p = Preset::default();
+        p.dust.mask_segments = vec![Segment::new(0, 1.0, 0.0)];
+        assert!(
+            p.validate().unwrap_err().to_string().contains("custom"),
+            "ignored lists are an error"
+        );
+        assert!(Preset::default().set("moss.color=purple").is_err());
+    }
 }

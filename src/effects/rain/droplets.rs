@@ -91,8 +91,11 @@ pub fn accelerate(vx: f32, vy: f32, mx: f32, my: f32, xi1: f32, p: &RainParams) 
 /// (dirt that runs off the region is returned in [`Trace::dirt_lost`]).
 pub fn run(wall: &mut Wall, drop: &mut Droplet, p: &RainParams, rng: &mut Rng) -> Trace {
     let dt = p.dt;
-    // The last pixels visited, where a drying droplet leaves its dirt.
-    let mut tail = [usize::MAX; TAIL];
+    // The last pixels visited (a ring), where a drying droplet leaves its dirt.
+    let mut tail = Tail {
+        pixels: [usize::MAX; TAIL],
+        head: 0,
+    };
     let mut trace = Trace {
         steps: 0,
         end: (drop.x, drop.y),
@@ -100,9 +103,10 @@ pub fn run(wall: &mut Wall, drop: &mut Droplet, p: &RainParams, rng: &mut Rng) -
         outcome: End::StepCap,
     };
     while trace.steps < p.max_steps {
-        let (x, y) = (drop.x.floor(), drop.y.floor());
-        let in_grid = x >= 0.0 && y >= 0.0 && (x as usize) < wall.stride && (y as usize) < wall.rows;
-        let i = if in_grid { wall.idx(x as usize, y as usize) } else { 0 };
+        // Truncation is floor here: negative positions are rejected first.
+        let (x, y) = (drop.x as usize, drop.y as usize);
+        let in_grid = drop.x >= 0.0 && drop.y >= 0.0 && x < wall.cols && y < wall.rows;
+        let i = if in_grid { wall.idx(x, y) } else { 0 };
         if !in_grid || wall.inside[i] == 0.0 {
             trace.dirt_lost = drop.s;
             drop.s = 0.0;
@@ -110,10 +114,7 @@ pub fn run(wall: &mut Wall, drop: &mut Droplet, p: &RainParams, rng: &mut Rng) -
             return trace;
         }
         trace.end = (drop.x, drop.y);
-        if tail[0] != i {
-            tail.rotate_right(1);
-            tail[0] = i;
-        }
+        tail.visit(i);
         if drop.m < p.mass_min {
             spread_over(wall, &tail, drop.s);
             drop.s = 0.0;
@@ -128,7 +129,7 @@ pub fn run(wall: &mut Wall, drop: &mut Droplet, p: &RainParams, rng: &mut Rng) -
         wall.d[i] += dirt;
 
         let (mx, my) = wall.roughness(i);
-        let xi1: f32 = rng.random_range(-1.0..=1.0);
+        let xi1: f32 = rng.random::<f32>() * 2.0 - 1.0;
         (drop.vx, drop.vy) = accelerate(drop.vx, drop.vy, mx, my, xi1, p);
         drop.x += drop.vx;
         drop.y += drop.vy;
@@ -140,19 +141,42 @@ pub fn run(wall: &mut Wall, drop: &mut Droplet, p: &RainParams, rng: &mut Rng) -
 }
 
 /// Pixels over which a drying droplet leaves its remaining dirt.
-const TAIL: usize = 32;
+const TAIL: usize = 64;
+
+/// The last [`TAIL`] distinct pixels a droplet visited, as a ring.
+struct Tail {
+    pixels: [usize; TAIL],
+    head: usize,
+}
+
+impl Tail {
+    #[inline]
+    fn visit(&mut self, i: usize) {
+        if self.pixels[self.head] != i {
+            self.head = (self.head + 1) % TAIL;
+            self.pixels[self.head] = i;
+        }
+    }
+
+    /// Visited pixels, most recent first.
+    fn recent(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..TAIL)
+            .map(move |k| self.pixels[(self.head + TAIL - k) % TAIL])
+            .take_while(|&i| i != usize::MAX)
+    }
+}
 
 /// Leaves `dirt` along the tail, more where the droplet stopped
 /// [choice: Chang removes light droplets without saying where their dirt
 /// goes; dumping it on one pixel leaves dots, so it fades in over the last
 /// few pixels, like the dark tip of a real run].
-fn spread_over(wall: &mut Wall, tail: &[usize; TAIL], dirt: f32) {
-    let n = tail.iter().take_while(|&&i| i != usize::MAX).count();
+fn spread_over(wall: &mut Wall, tail: &Tail, dirt: f32) {
+    let n = tail.recent().count();
     if n == 0 || dirt == 0.0 {
         return;
     }
     let total = (n * (n + 1) / 2) as f32;
-    for (k, &i) in tail[..n].iter().enumerate() {
+    for (k, i) in tail.recent().enumerate() {
         wall.d[i] += dirt * (n - k) as f32 / total;
     }
 }
@@ -219,13 +243,22 @@ mod tests {
     #[test]
     fn droplet_conserves_water_and_dirt_with_the_wall() {
         let (width, height) = (32, 64);
-        let luma: Vec<f32> = (0..width * height).map(|i| ((i * 37) % 97) as f32).collect();
+        let luma: Vec<f32> = (0..width * height)
+            .map(|i| ((i * 37) % 97) as f32)
+            .collect();
         let mut wall = Wall::new(width, height, &luma, &vec![true; width * height]);
         for d in wall.d.iter_mut().zip(&wall.inside) {
             *d.0 = 2.0 * d.1;
         }
         let p = RainParams::default();
-        let mut drop = Droplet { x: 16.5, y: 1.5, vx: 0.0, vy: 0.0, m: 8.0, s: 3.0 };
+        let mut drop = Droplet {
+            x: 16.5,
+            y: 1.5,
+            vx: 0.0,
+            vy: 0.0,
+            m: 8.0,
+            s: 3.0,
+        };
         let (water0, dirt0) = (wall.total_water() + 8.0, wall.total_dirt() + 3.0);
         let t = run(&mut wall, &mut drop, &p, &mut rng(1, Stream::Droplet, 0, 0));
         assert!(t.steps > 0);

@@ -109,11 +109,16 @@ pub fn droplet_count(p: &RainParams, width: usize) -> u32 {
 ///
 /// # Errors
 /// [`crate::Error::Cancelled`] when the progress's cancel flag is set.
-pub fn simulate(input: &RainInput, p: &RainParams, seed: u64, progress: &Progress) -> Result<RainOutput> {
+pub fn simulate(
+    input: &RainInput,
+    p: &RainParams,
+    seed: u64,
+    progress: &Progress,
+) -> Result<RainOutput> {
     let mut wall = Wall::new(input.width, input.height, input.luma, input.region);
     let mut sources = Vec::new();
     if p.top_edge {
-        let edge = sources::top_edge(&wall.inside, wall.stride, wall.rows);
+        let edge = sources::top_edge(&wall);
         if !edge.is_empty() {
             sources.push(Source::TopEdge(edge));
         }
@@ -123,22 +128,35 @@ pub fn simulate(input: &RainInput, p: &RainParams, seed: u64, progress: &Progres
         sources.push(Source::line(padded));
     }
     let total_len: f32 = sources.iter().map(Source::length).sum();
-    let n = if total_len > 0.0 { droplet_count(p, input.width) } else { 0 };
+    let n = if total_len > 0.0 {
+        droplet_count(p, input.width)
+    } else {
+        0
+    };
     let k_d = 1.0 - p.k_s;
     let rounds = p.diffusion_rounds.max(1);
     // Per droplet: (position along the sources, mass), carried between layers.
     let mut starts: Vec<(f32, f32)> = vec![(0.0, 0.0); n as usize];
     let mut layers = Vec::with_capacity(p.layers as usize);
+    let mut scratch = Vec::new();
 
     for layer in 0..p.layers {
         let mut layer_rng = random::rng(seed, Stream::RainLayer, layer as u64, 0);
         if layer > 0 {
             // Chang eq. (15): deposited dirt raises the surface for the next rain
             // [choice: eps is a fraction of full scale, 255 * eps * D / D_max].
-            let d_max = wall.d.par_iter().cloned().fold(|| 0.0f32, f32::max).reduce(|| 0.0, f32::max);
+            let d_max = wall
+                .d
+                .par_iter()
+                .cloned()
+                .fold(|| 0.0f32, f32::max)
+                .reduce(|| 0.0, f32::max);
             if d_max > 0.0 {
                 let raise = 255.0 * p.eps / d_max;
-                wall.b.par_iter_mut().zip(&wall.d).for_each(|(b, d)| *b = (*b + raise * d).min(255.0));
+                wall.b
+                    .par_iter_mut()
+                    .zip(&wall.d)
+                    .for_each(|(b, d)| *b = (*b + raise * d).min(255.0));
             }
             // Chang eqs. (11-12): drying and wind loss, one xi2 per layer [choice].
             let xi2: f32 = layer_rng.random();
@@ -146,7 +164,12 @@ pub fn simulate(input: &RainInput, p: &RainParams, seed: u64, progress: &Progres
             wall.d.par_iter_mut().for_each(|d| *d *= xi2);
         }
         // Chang eq. (12): fresh grime I_D0, smooth noise [choice: fBm, not white noise].
-        add_grime(&mut wall, p, random::key(seed, Stream::Grime, layer as u64, 0));
+        add_grime(
+            &mut wall,
+            p,
+            random::key(seed, Stream::Grime, layer as u64, 0),
+            &mut scratch,
+        );
         // Chang eqs. (13-14): delta * k_D * D moves into this layer's source term I_D,
         // returned to the wall over the rainfall's diffusion rounds.
         let carry: Vec<f32> = wall.d.par_iter().map(|d| p.delta * k_d * d).collect();
@@ -154,7 +177,7 @@ pub fn simulate(input: &RainInput, p: &RainParams, seed: u64, progress: &Progres
         // What the dirt would be without droplets: diffused and topped up like
         // D. The layer's deposit is D minus this, so the stain shows what the
         // rain moved, not the smoothing of old grime.
-        let mut baseline = Baseline { d: wall.d.clone(), scratch: Vec::new() };
+        wall.baseline.clone_from(&wall.d);
 
         let mut stats = LayerStats::default();
         let mut paths = Vec::with_capacity(n as usize);
@@ -162,16 +185,25 @@ pub fn simulate(input: &RainInput, p: &RainParams, seed: u64, progress: &Progres
         for (k, start) in starts.iter_mut().enumerate() {
             if k % 32 == 0 {
                 progress.check()?;
-                progress.update("rain", (layer as f32 + k as f32 / n as f32) / p.layers as f32);
+                progress.update(
+                    "rain",
+                    (layer as f32 + k as f32 / n as f32) / p.layers as f32,
+                );
             }
             let mut rng = random::rng(seed, Stream::Droplet, layer as u64, k as u64);
             *start = if layer == 0 {
-                (rng.random::<f32>() * total_len, rng.random::<f32>() * p.mass_max)
+                (
+                    rng.random::<f32>() * total_len,
+                    rng.random::<f32>() * p.mass_max,
+                )
             } else {
                 // Chang eqs. (16-17): normal steps from the previous layer's
                 // position and mass (independent draws, Box-Muller's two outputs).
                 let (z_pos, z_mass) = random::box_muller(&mut rng);
-                (start.0 + p.sigma * z_pos, (start.1 + p.sigma * z_mass).max(0.0))
+                (
+                    start.0 + p.sigma * z_pos,
+                    (start.1 + p.sigma * z_mass).max(0.0),
+                )
             };
             start.0 = start.0.rem_euclid(total_len);
             if start.1 >= p.mass_min {
@@ -181,7 +213,14 @@ pub fn simulate(input: &RainInput, p: &RainParams, seed: u64, progress: &Progres
                 // droplet washes dirt off its ledge in proportion to its water,
                 // S_0 = ledge_dirt * m / m_max, so small droplets leave faint runs.
                 let s0 = p.ledge_dirt * (start.1 / p.mass_max).min(1.0);
-                let mut drop = Droplet { x, y, vx: 0.0, vy: 0.0, m: start.1, s: s0 };
+                let mut drop = Droplet {
+                    x,
+                    y,
+                    vx: 0.0,
+                    vy: 0.0,
+                    m: start.1,
+                    s: s0,
+                };
                 stats.dirt_from_ledges += s0 as f64;
                 let trace = droplets::run(&mut wall, &mut drop, p, &mut rng);
                 stats.droplets += 1;
@@ -199,21 +238,25 @@ pub fn simulate(input: &RainInput, p: &RainParams, seed: u64, progress: &Progres
                 });
             }
             while (round + 1) * n as usize <= (k + 1) * rounds as usize && round < rounds as usize {
-                diffusion_round(&mut wall, &mut baseline, p, &carry, rounds);
+                diffusion_round(&mut wall, p, &carry, rounds);
                 round += 1;
             }
         }
         while round < rounds as usize {
-            diffusion_round(&mut wall, &mut baseline, p, &carry, rounds);
+            diffusion_round(&mut wall, p, &carry, rounds);
             round += 1;
         }
 
-        let deposit: Vec<f32> = unpad(&wall, |i| (wall.d[i] - baseline.d[i]).max(0.0));
+        let deposit: Vec<f32> = unpad(&wall, |i| (wall.d[i] - wall.baseline[i]).max(0.0));
         let positive: Vec<f32> = deposit.iter().copied().filter(|&d| d > 0.0).collect();
         let area = input.region.iter().filter(|&&r| r).count().max(1);
         stats.mean_dirt = positive.iter().map(|&d| d as f64).sum::<f64>() / area as f64;
         stats.max_dirt = positive.iter().copied().fold(0.0, f32::max);
-        layers.push(RainLayer { deposit, stats, paths });
+        layers.push(RainLayer {
+            deposit,
+            stats,
+            paths,
+        });
     }
     progress.update("rain", 1.0);
     Ok(RainOutput {
@@ -226,52 +269,63 @@ pub fn simulate(input: &RainInput, p: &RainParams, seed: u64, progress: &Progres
     })
 }
 
-fn add_grime(wall: &mut Wall, p: &RainParams, key: u64) {
+fn add_grime(wall: &mut Wall, p: &RainParams, key: u64, scratch: &mut Vec<f32>) {
     if p.initial_dirt <= 0.0 {
         return;
     }
-    let stride = wall.stride;
+    // Filled in storage order (column-major), i.e. the noise is transposed.
+    let noise = random::Noise::new(
+        key,
+        wall.rows as u32,
+        wall.cols as u32,
+        p.initial_dirt_scale,
+        2,
+    );
+    scratch.resize(wall.d.len(), 0.0);
+    noise.fill(wall.rows, p.initial_dirt, scratch);
     wall.d
-        .par_chunks_mut(stride)
-        .zip(wall.inside.par_chunks(stride))
-        .enumerate()
-        .for_each(|(y, (row, inside))| {
-            for (x, (d, &ins)) in row.iter_mut().zip(inside).enumerate() {
-                if ins > 0.0 {
-                    *d += p.initial_dirt * random::smooth_noise(key, x as f32, y as f32, p.initial_dirt_scale);
-                }
-            }
-        });
-}
-
-/// The dirt field as it would be without this rainfall's droplets.
-struct Baseline {
-    d: Vec<f32>,
-    scratch: Vec<f32>,
+        .par_iter_mut()
+        .zip(scratch.par_iter())
+        .zip(wall.inside.par_iter())
+        .for_each(|((d, n), inside)| *d += n * inside);
 }
 
 /// Eqs. (9-10) diffusion, I_sun evaporation and this round's share of the
-/// carried-over dirt (eq. 13's source term), applied to the wall and alike to
-/// the baseline.
-fn diffusion_round(wall: &mut Wall, baseline: &mut Baseline, p: &RainParams, carry: &[f32], rounds: u32) {
+/// carried-over dirt (eq. 13's source term), to the dirt and its baseline.
+fn diffusion_round(wall: &mut Wall, p: &RainParams, carry: &[f32], rounds: u32) {
     if p.diffusion_rounds > 0 {
         wall.diffuse(p.tau, p.dirt_coupling, p.diffusion_iterations);
-        wall.diffuse_like_dirt(&mut baseline.d, &mut baseline.scratch, p.tau, p.dirt_coupling, p.diffusion_iterations);
         wall.evaporate(p.i_sun);
     }
     let share = 1.0 / rounds as f32;
-    for field in [&mut wall.d, &mut baseline.d] {
-        field.par_iter_mut().zip(carry).for_each(|(d, c)| *d += c * share);
+    for field in [&mut wall.d, &mut wall.baseline] {
+        field
+            .par_iter_mut()
+            .zip(carry)
+            .for_each(|(d, c)| *d += c * share);
     }
 }
 
-/// Copies the unpadded interior of a padded wall field.
+/// Copies the unpadded interior of a padded (column-major) wall field into
+/// a row-major grid, tile by tile so reads and writes both stay in cache.
 fn unpad(wall: &Wall, f: impl Fn(usize) -> f32 + Sync) -> Vec<f32> {
-    let (w, h) = (wall.stride - 2, wall.rows - 2);
-    (0..w * h)
-        .into_par_iter()
-        .map(|i| f(wall.idx(i % w + 1, i / w + 1)))
-        .collect()
+    const TILE: usize = 32;
+    let (w, h) = (wall.cols - 2, wall.rows - 2);
+    let mut out = vec![0.0; w * h];
+    out.par_chunks_mut(w * TILE)
+        .enumerate()
+        .for_each(|(band, rows)| {
+            let y0 = band * TILE;
+            let band_h = rows.len() / w;
+            for x0 in (0..w).step_by(TILE) {
+                for x in x0..(x0 + TILE).min(w) {
+                    for dy in 0..band_h {
+                        rows[dy * w + x] = f(wall.idx(x + 1, y0 + dy + 1));
+                    }
+                }
+            }
+        });
+    out
 }
 
 #[cfg(test)]

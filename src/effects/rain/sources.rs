@@ -44,7 +44,9 @@ impl Source {
             Source::Line { points, lengths } => {
                 let total = lengths.last().copied().unwrap_or(0.0);
                 let u = u.clamp(0.0, total);
-                let k = lengths.partition_point(|&l| l <= u).clamp(1, points.len() - 1);
+                let k = lengths
+                    .partition_point(|&l| l <= u)
+                    .clamp(1, points.len() - 1);
                 let (a, b) = (points[k - 1], points[k]);
                 let seg = (lengths[k] - lengths[k - 1]).max(1e-6);
                 let t = ((u - lengths[k - 1]) / seg).clamp(0.0, 1.0);
@@ -56,15 +58,17 @@ impl Source {
 }
 
 /// The region's top edge on the padded grid: (x, first region row) per column.
-pub fn top_edge(inside: &[f32], stride: usize, rows: usize) -> Vec<(f32, f32)> {
-    (1..stride - 1)
+pub fn top_edge(wall: &Wall) -> Vec<(f32, f32)> {
+    (1..wall.cols - 1)
         .filter_map(|x| {
-            (1..rows - 1)
-                .find(|&y| inside[y * stride + x] > 0.0)
+            (1..wall.rows - 1)
+                .find(|&y| wall.inside[wall.idx(x, y)] > 0.0)
                 .map(|y| (x as f32, y as f32))
         })
         .collect()
 }
+
+use super::wall::Wall;
 
 /// Picks the source at cumulative-length position `u` in `0..total`.
 pub fn pick(sources: &[Source], u: f32) -> (usize, f32) {
@@ -94,17 +98,18 @@ mod tests {
 
     #[test]
     fn top_edge_follows_the_region() {
-        // 3x3 grid padded to 5x5; column 2 starts one row lower.
-        let mut inside = vec![0.0; 25];
-        for (x, y) in [(1, 1), (1, 2), (2, 2), (3, 1), (3, 3)] {
-            inside[y * 5 + x] = 1.0;
-        }
-        assert_eq!(top_edge(&inside, 5, 5), vec![(1.0, 1.0), (2.0, 2.0), (3.0, 1.0)]);
+        // 3x3 grid; column 1 starts one row lower.
+        let region = [true, false, true, true, true, false, false, false, true];
+        let wall = Wall::new(3, 3, &[0.0; 9], &region);
+        assert_eq!(top_edge(&wall), vec![(1.0, 1.0), (2.0, 2.0), (3.0, 1.0)]);
     }
 
     #[test]
     fn pick_splits_by_length() {
-        let s = vec![Source::line(vec![(0.0, 0.0), (10.0, 0.0)]), Source::line(vec![(0.0, 5.0), (30.0, 5.0)])];
+        let s = vec![
+            Source::line(vec![(0.0, 0.0), (10.0, 0.0)]),
+            Source::line(vec![(0.0, 5.0), (30.0, 5.0)]),
+        ];
         assert_eq!(pick(&s, 4.0), (0, 4.0));
         assert_eq!(pick(&s, 12.0), (1, 2.0));
         assert_eq!(pick(&s, 100.0), (1, 30.0));

@@ -1,0 +1,151 @@
+//! Invariants of a whole rainfall: dirt conservation, where droplets start
+//! and end, and that more water runs further.
+
+use super::*;
+use crate::progress::Progress;
+
+/// A textured wall, `w` x `h`, whole grid is region.
+fn wall_input(w: usize, h: usize) -> (Vec<f32>, Vec<bool>) {
+    let luma = (0..w * h)
+        .map(|i| {
+            120.0
+                + 30.0 * (((i * 7919) % 13) as f32 / 13.0)
+                + 20.0 * (i / w).is_multiple_of(9) as u8 as f32
+        })
+        .collect();
+    (luma, vec![true; w * h])
+}
+
+fn one_layer() -> RainParams {
+    RainParams {
+        layers: 1,
+        droplets: 80,
+        reference_width: 0,
+        ..RainParams::default()
+    }
+}
+
+#[test]
+fn dirt_is_conserved_between_droplets_and_wall() {
+    let (luma, region) = wall_input(64, 96);
+    let input = RainInput {
+        width: 64,
+        height: 96,
+        luma: &luma,
+        region: &region,
+        source_lines: vec![],
+    };
+    // No fresh grime: all dirt comes off the ledges with the droplets.
+    let p = RainParams {
+        initial_dirt: 0.0,
+        ..one_layer()
+    };
+    let out = simulate(&input, &p, 3, &Progress::none()).unwrap();
+    let s = &out.layers[0].stats;
+    let on_wall: f64 = out.dirt.iter().map(|&d| d as f64).sum();
+    assert!(s.dirt_from_ledges > 1.0);
+    let err = (on_wall + s.dirt_lost - s.dirt_from_ledges).abs();
+    assert!(
+        err < 1e-3 * s.dirt_from_ledges,
+        "wall {on_wall} + lost {} != injected {}",
+        s.dirt_lost,
+        s.dirt_from_ledges
+    );
+}
+
+#[test]
+fn droplets_start_on_the_source_line_and_end_lower() {
+    let (luma, region) = wall_input(80, 120);
+    let line = vec![(10.0, 30.0), (70.0, 30.0)];
+    let input = RainInput {
+        width: 80,
+        height: 120,
+        luma: &luma,
+        region: &region,
+        source_lines: vec![line],
+    };
+    let p = RainParams {
+        top_edge: false,
+        ..one_layer()
+    };
+    let out = simulate(&input, &p, 5, &Progress::none()).unwrap();
+    let paths = &out.layers[0].paths;
+    assert!(paths.len() > 40, "{} droplets ran", paths.len());
+    for path in paths {
+        assert!(
+            (10.0..=70.0).contains(&path.start.0),
+            "start x {}",
+            path.start.0
+        );
+        assert!(
+            (path.start.1 - 31.0).abs() < 1e-3,
+            "start y {}",
+            path.start.1
+        );
+        if path.steps > 5 {
+            assert!(path.end.1 > path.start.1 + 2.0, "{path:?} did not run down");
+        }
+    }
+    // Nothing well above the ledge gets dirt (diffusion spreads a few px).
+    let reach = (p.diffusion_rounds * p.diffusion_iterations) as usize;
+    let above: f32 = out.layers[0].deposit[..80 * (30 - reach)].iter().sum();
+    assert_eq!(above, 0.0);
+}
+
+#[test]
+fn heavier_droplets_run_further() {
+    // Eq. (5) drains a fixed fraction per step, so runs grow with log(mass);
+    // the wall is tall enough that neither kind reaches the bottom.
+    let (luma, region) = wall_input(64, 2000);
+    let input = RainInput {
+        width: 64,
+        height: 2000,
+        luma: &luma,
+        region: &region,
+        source_lines: vec![],
+    };
+    let mean_run = |mass_max: f32| {
+        let p = RainParams {
+            mass_max,
+            ..one_layer()
+        };
+        let out = simulate(&input, &p, 9, &Progress::none()).unwrap();
+        let paths = &out.layers[0].paths;
+        paths.iter().map(|p| p.end.1 - p.start.1).sum::<f32>() / paths.len() as f32
+    };
+    let (light, heavy) = (mean_run(20.0), mean_run(80.0));
+    assert!(heavy > 1.15 * light, "light {light}, heavy {heavy}");
+}
+
+#[test]
+fn droplet_count_scales_with_width() {
+    let p = RainParams::default();
+    assert_eq!(droplet_count(&p, 1000), 600);
+    assert_eq!(droplet_count(&p, 2000), 1200);
+    let fixed = RainParams {
+        reference_width: 0,
+        ..p
+    };
+    assert_eq!(droplet_count(&fixed, 2000), 600);
+}
+
+#[test]
+fn cancel_stops_mid_layer() {
+    use std::sync::atomic::AtomicBool;
+    let (luma, region) = wall_input(64, 64);
+    let input = RainInput {
+        width: 64,
+        height: 64,
+        luma: &luma,
+        region: &region,
+        source_lines: vec![],
+    };
+    let cancel = AtomicBool::new(true);
+    let r = simulate(
+        &input,
+        &RainParams::default(),
+        1,
+        &Progress::new(None, Some(&cancel)),
+    );
+    assert!(matches!(r, Err(crate::Error::Cancelled)));
+}

@@ -1,0 +1,244 @@
+//! Layered OpenRaster documents (`.ora`) for GIMP, Krita and MyPaint,
+//! following the OpenRaster 0.0.5 specification.
+//!
+//! The file is a zip whose entries are, in this order:
+//!
+//! 1. `mimetype`: `image/openraster`, stored uncompressed, so the bytes
+//!    `mimetype` and `image/openraster` sit at offsets 30 and 38;
+//! 2. `stack.xml`: the layers, **top first**, each with `name`, `src`, `x`,
+//!    `y`, `opacity` (0..1), `visibility` (`visible`/`hidden`) and
+//!    `composite-op` (`svg:src-over` for normal, `svg:multiply`);
+//! 3. `data/*.png`: one RGBA PNG per layer at photo size (straight alpha);
+//!    the bottom layer `photo` keeps the photo's bit depth and ICC profile;
+//! 4. `mergedimage.png`: the flattened image ([`Stack::composite`]), 8-bit
+//!    RGBA;
+//! 5. `Thumbnails/thumbnail.png`: the same, at most 256 px per side.
+//!
+//! As in the PSD (see [`super::psd`]), the region is a hidden top layer
+//! named `region`: white, the region as its alpha.
+
+use std::io::Write;
+use std::path::Path;
+
+use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+use image::{DynamicImage, ImageEncoder};
+use rayon::prelude::*;
+use zip::CompressionMethod;
+use zip::write::SimpleFileOptions;
+
+use crate::error::{Error, Result};
+use crate::io;
+use crate::stack::{BlendMode, Stack};
+
+use super::layers_dir::slug;
+use super::psd::{PHOTO_LAYER, REGION_LAYER};
+
+/// The `mimetype` entry's content.
+pub const MIMETYPE: &str = "image/openraster";
+
+/// Largest side of `Thumbnails/thumbnail.png`.
+pub const THUMBNAIL_MAX: u32 = 256;
+
+/// One `<layer>` of `stack.xml`, with its encoded PNG.
+struct OraLayer {
+    name: String,
+    src: String,
+    blend: BlendMode,
+    opacity: f32,
+    visible: bool,
+    png: Vec<u8>,
+}
+
+/// Writes `stack` as an OpenRaster file to `path`, atomically (see
+/// [`io::write_atomic`]).
+///
+/// # Errors
+/// [`Error::Io`] when the folder is missing or the file cannot be written,
+/// [`Error::Encode`] if a PNG cannot be encoded.
+pub fn write(stack: &Stack, path: &Path) -> Result<()> {
+    let w = stack.base.width();
+    let h = stack.base.height();
+
+    // Encode the layer PNGs in parallel, bottom first.
+    enum What<'a> {
+        Photo,
+        Layer(usize, &'a crate::stack::Layer),
+        Region(&'a image::GrayImage),
+    }
+    let mut jobs = vec![What::Photo];
+    jobs.extend(
+        stack
+            .layers
+            .iter()
+            .enumerate()
+            .map(|(i, l)| What::Layer(i, l)),
+    );
+    if let Some(r) = stack.region.as_deref() {
+        jobs.push(What::Region(r));
+    }
+    let layers: Vec<OraLayer> = jobs
+        .par_iter()
+        .map(|job| -> Result<OraLayer> {
+            Ok(match job {
+                What::Photo => OraLayer {
+                    name: PHOTO_LAYER.into(),
+                    src: "data/00-photo.png".into(),
+                    blend: BlendMode::Normal,
+                    opacity: 1.0,
+                    visible: true,
+                    png: png(stack.base.image(), stack.base.icc.as_deref(), path)?,
+                },
+                What::Layer(i, l) => OraLayer {
+                    name: l.name.clone(),
+                    src: format!("data/{:02}-{}.png", i + 1, slug(&l.name)),
+                    blend: l.blend,
+                    opacity: l.opacity,
+                    visible: l.visible,
+                    png: png(&DynamicImage::ImageRgba8(l.to_rgba()), None, path)?,
+                },
+                What::Region(r) => {
+                    let img = image::RgbaImage::from_fn(w, h, |x, y| {
+                        image::Rgba([255, 255, 255, r.get_pixel(x, y)[0]])
+                    });
+                    OraLayer {
+                        name: REGION_LAYER.into(),
+                        src: "data/region.png".into(),
+                        blend: BlendMode::Normal,
+                        opacity: 1.0,
+                        visible: false,
+                        png: png(&DynamicImage::ImageRgba8(img), None, path)?,
+                    }
+                }
+            })
+        })
+        .collect::<Result<_>>()?;
+
+    let merged = stack.composite().to_rgba8();
+    let (tw, th) = thumbnail_size(w, h);
+    let thumb = DynamicImage::ImageRgba8(image::imageops::thumbnail(&merged, tw, th));
+    let merged = DynamicImage::ImageRgba8(merged);
+    let (merged_png, thumb_png) = rayon::join(
+        || png(&merged, stack.base.icc.as_deref(), path),
+        || png(&thumb, None, path),
+    );
+    let (merged_png, thumb_png) = (merged_png?, thumb_png?);
+    let xml = stack_xml(w, h, &layers);
+
+    io::write_atomic(path, |out| {
+        let zip_err = |e: zip::result::ZipError| Error::Encode {
+            path: path.to_path_buf(),
+            reason: format!("zip: {e}"),
+        };
+        let io_err = |e: std::io::Error| Error::io(path, e);
+        let stored = SimpleFileOptions::default().compression_method(CompressionMethod::Stored);
+        let deflated = SimpleFileOptions::default().compression_method(CompressionMethod::Deflated);
+        let mut zip = zip::ZipWriter::new(out);
+        zip.start_file("mimetype", stored).map_err(zip_err)?;
+        zip.write_all(MIMETYPE.as_bytes()).map_err(io_err)?;
+        zip.start_file("stack.xml", deflated).map_err(zip_err)?;
+        zip.write_all(xml.as_bytes()).map_err(io_err)?;
+        // PNGs are compressed already.
+        for l in &layers {
+            zip.start_file(l.src.as_str(), stored).map_err(zip_err)?;
+            zip.write_all(&l.png).map_err(io_err)?;
+        }
+        zip.start_file("mergedimage.png", stored).map_err(zip_err)?;
+        zip.write_all(&merged_png).map_err(io_err)?;
+        zip.start_file("Thumbnails/thumbnail.png", stored)
+            .map_err(zip_err)?;
+        zip.write_all(&thumb_png).map_err(io_err)?;
+        zip.finish().map_err(zip_err)?;
+        Ok(())
+    })
+}
+
+/// The size of the thumbnail: the photo scaled to fit 256 x 256, at least 1
+/// pixel per side, never enlarged.
+pub fn thumbnail_size(w: u32, h: u32) -> (u32, u32) {
+    let side = w.max(h).max(1);
+    if side <= THUMBNAIL_MAX {
+        return (w.max(1), h.max(1));
+    }
+    let scale =
+        |v: u32| ((v as u64 * THUMBNAIL_MAX as u64 + side as u64 / 2) / side as u64).max(1) as u32;
+    (scale(w), scale(h))
+}
+
+/// The OpenRaster `composite-op` of a blend mode.
+pub fn composite_op(blend: BlendMode) -> &'static str {
+    match blend {
+        BlendMode::Normal => "svg:src-over",
+        BlendMode::Multiply => "svg:multiply",
+    }
+}
+
+fn png(img: &DynamicImage, icc: Option<&[u8]>, path: &Path) -> Result<Vec<u8>> {
+    let mut buf = Vec::new();
+    let mut enc =
+        PngEncoder::new_with_quality(&mut buf, CompressionType::Fast, FilterType::Adaptive);
+    if let Some(icc) = icc {
+        let _ = enc.set_icc_profile(icc.to_vec());
+    }
+    img.write_with_encoder(enc).map_err(|e| Error::Encode {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })?;
+    Ok(buf)
+}
+
+/// `stack.xml`: layers top first, as the specification asks.
+fn stack_xml(w: u32, h: u32, bottom_first: &[OraLayer]) -> String {
+    let mut s = String::new();
+    s.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    s.push_str(&format!(
+        "<image version=\"0.0.5\" w=\"{w}\" h=\"{h}\" xres=\"72\" yres=\"72\">\n"
+    ));
+    s.push_str("  <stack>\n");
+    for l in bottom_first.iter().rev() {
+        s.push_str(&format!(
+            "    <layer name=\"{}\" src=\"{}\" x=\"0\" y=\"0\" opacity=\"{}\" visibility=\"{}\" composite-op=\"{}\"/>\n",
+            escape(&l.name),
+            escape(&l.src),
+            l.opacity.clamp(0.0, 1.0),
+            if l.visible { "visible" } else { "hidden" },
+            composite_op(l.blend),
+        ));
+    }
+    s.push_str("  </stack>\n</image>\n");
+    s
+}
+
+/// Escapes text for an XML attribute value.
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            '\t' | '\n' | '\r' => out.push_str(&format!("&#{};", c as u32)),
+            c if c.is_control() => out.push('?'),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thumbnail_fits() {
+        assert_eq!(thumbnail_size(960, 720), (256, 192));
+        assert_eq!(thumbnail_size(100, 50), (100, 50));
+        assert_eq!(thumbnail_size(4000, 3), (256, 1));
+    }
+
+    #[test]
+    fn escapes_names() {
+        assert_eq!(escape("a<\"b\">&'"), "a&lt;&quot;b&quot;&gt;&amp;&apos;");
+    }
+}

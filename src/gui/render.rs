@@ -1,0 +1,427 @@
+//! What the workers run: the preview on a ~1 MP proxy, and the export at
+//! full resolution. Both call the same pipeline as the CLI
+//! ([`perspective::pipeline_with_quad`], which is [`crate::pipeline::run`]
+//! without a quad).
+//!
+//! A preview keeps its layer stack, so changes that need no new simulation
+//! (stain colour and opacity, layer visibility and opacity, fewer rainfalls)
+//! only re-composite: see [`needs_simulation`] and [`Preview::restyle`].
+
+use eframe::egui;
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use egui::ColorImage;
+use image::{DynamicImage, GrayImage};
+
+use crate::error::Result;
+use crate::export;
+use crate::perspective::{self, Quad};
+use crate::photo::Photo;
+use crate::pipeline::Scene;
+use crate::preset::Preset;
+use crate::progress::Progress;
+use crate::stack::{LayerPixels, Stack};
+
+use super::state::{LayerSetting, apply_layer_settings};
+use super::tools::PixelRect;
+
+/// Pixels of the preview proxy (about 1 MP).
+pub const PROXY_PIXELS: u64 = 1_000_000;
+
+/// The photo and mask scaled down for previews, and the mapping to them.
+#[derive(Debug, Clone)]
+pub struct Proxy {
+    /// Proxy pixels per photo pixel, horizontally.
+    pub sx: f32,
+    /// Proxy pixels per photo pixel, vertically.
+    pub sy: f32,
+    /// The scaled photo (the photo itself when it is small enough).
+    pub photo: Arc<Photo>,
+    /// The scaled mask, area-averaged.
+    pub mask: GrayImage,
+}
+
+impl Proxy {
+    /// The proxy of `photo` with at most `max_pixels` pixels.
+    pub fn new(photo: &Arc<Photo>, mask: &GrayImage, max_pixels: u64) -> Proxy {
+        let (w, h) = (photo.width(), photo.height());
+        let s = (max_pixels as f64 / (w as f64 * h as f64)).sqrt().min(1.0);
+        if s >= 1.0 {
+            return Proxy { sx: 1.0, sy: 1.0, photo: Arc::clone(photo), mask: mask.clone() };
+        }
+        let (pw, ph) = (((w as f64 * s).round() as u32).max(1), ((h as f64 * s).round() as u32).max(1));
+        let img = photo.image().resize_exact(pw, ph, image::imageops::FilterType::Triangle);
+        let mut small = Photo::new(img);
+        small.icc = photo.icc.clone();
+        let mut proxy = Proxy {
+            sx: pw as f32 / w as f32,
+            sy: ph as f32 / h as f32,
+            photo: Arc::new(small),
+            mask: GrayImage::new(pw, ph),
+        };
+        proxy.update_mask(mask, PixelRect::full(w, h));
+        proxy
+    }
+
+    /// True when the proxy is the photo itself.
+    pub fn is_full_size(&self) -> bool {
+        self.sx == 1.0 && self.sy == 1.0
+    }
+
+    /// Re-samples the proxy mask where the photo mask changed (`rect`, photo
+    /// pixels). Returns the proxy pixels that were updated.
+    pub fn update_mask(&mut self, full: &GrayImage, rect: PixelRect) -> Option<PixelRect> {
+        let (pw, ph) = self.mask.dimensions();
+        let (w, h) = full.dimensions();
+        let r = PixelRect::around(
+            rect.x0 as f32 * self.sx,
+            rect.y0 as f32 * self.sy,
+            rect.x1 as f32 * self.sx,
+            rect.y1 as f32 * self.sy,
+            pw,
+            ph,
+        )?;
+        if self.is_full_size() {
+            for y in r.y0..r.y1 {
+                let s = (y * w + r.x0) as usize;
+                let e = s + r.width() as usize;
+                self.mask.as_mut()[s..e].copy_from_slice(&full.as_raw()[s..e]);
+            }
+            return Some(r);
+        }
+        let span = |p: u32, s: f32, max: u32| {
+            let a = ((p as f32 / s) as u32).min(max - 1);
+            let b = (((p + 1) as f32 / s).ceil() as u32).clamp(a + 1, max);
+            (a, b)
+        };
+        let raw = full.as_raw();
+        for py in r.y0..r.y1 {
+            let (ya, yb) = span(py, self.sy, h);
+            for px in r.x0..r.x1 {
+                let (xa, xb) = span(px, self.sx, w);
+                let mut sum = 0u64;
+                for y in ya..yb {
+                    let row = &raw[(y * w + xa) as usize..(y * w + xb) as usize];
+                    sum += row.iter().map(|&v| v as u64).sum::<u64>();
+                }
+                let n = ((yb - ya) * (xb - xa)) as u64;
+                self.mask.put_pixel(px, py, image::Luma([((sum + n / 2) / n) as u8]));
+            }
+        }
+        Some(r)
+    }
+
+    /// A photo point on the proxy.
+    pub fn to_proxy(&self, p: [f32; 2]) -> [f32; 2] {
+        [p[0] * self.sx, p[1] * self.sy]
+    }
+
+    /// The preview job for a document's state.
+    pub fn job(&self, preset: &Preset, quad: Option<&Quad>, layers: &BTreeMap<String, LayerSetting>) -> Result<PreviewJob> {
+        let mut preset = preset.clone();
+        for line in &mut preset.rain.source_lines {
+            for p in line.iter_mut() {
+                *p = self.to_proxy(*p);
+            }
+        }
+        Ok(PreviewJob {
+            scene: Scene::new((*self.photo).clone(), Some(self.mask.clone()))?,
+            quad: quad.map(|q| q.map(|p| self.to_proxy(p))),
+            preset,
+            layers: layers.clone(),
+        })
+    }
+}
+
+/// One preview computation.
+#[derive(Debug, Clone)]
+pub struct PreviewJob {
+    /// Proxy photo and mask.
+    pub scene: Scene,
+    /// Perspective quad in proxy pixels.
+    pub quad: Option<Quad>,
+    /// The preset, source lines in proxy pixels.
+    pub preset: Preset,
+    /// Layer visibility and opacity.
+    pub layers: BTreeMap<String, LayerSetting>,
+}
+
+/// A computed preview: the layer stack and its composite.
+#[derive(Debug, Clone)]
+pub struct Preview {
+    /// The simulated stack, styled by the current settings.
+    pub stack: Stack,
+    /// The preset the stack was simulated with.
+    pub sim_preset: Preset,
+    /// Opacity and visibility of each layer as the pipeline made it.
+    original: Vec<(f32, bool)>,
+    /// The composite, ready for a texture.
+    pub image: ColorImage,
+}
+
+/// Runs the pipeline for a preview and composites it.
+///
+/// # Errors
+/// As [`perspective::pipeline_with_quad`].
+pub fn simulate(job: PreviewJob, progress: &Progress) -> Result<Preview> {
+    let out = perspective::pipeline_with_quad(&job.scene, job.quad.as_ref(), &job.preset, progress)?;
+    let original = out.stack.layers.iter().map(|l| (l.opacity, l.visible)).collect();
+    let mut preview = Preview {
+        stack: out.stack,
+        sim_preset: job.preset.clone(),
+        original,
+        image: ColorImage::default(),
+    };
+    progress.update("composite", 1.0);
+    preview.restyle(&job.preset, &job.layers);
+    Ok(preview)
+}
+
+impl Preview {
+    /// Applies stain colour and opacity, the number of rainfalls shown and
+    /// the layer settings, then re-composites. Call only when
+    /// [`needs_simulation`] is false.
+    pub fn restyle(&mut self, preset: &Preset, layers: &BTreeMap<String, LayerSetting>) {
+        style_stack(&mut self.stack, &self.original, preset);
+        apply_layer_settings(layers, &mut self.stack);
+        self.image = to_color_image(&self.stack.composite());
+    }
+
+    /// Names of the layers, bottom to top.
+    pub fn layer_names(&self) -> Vec<String> {
+        self.stack.layers.iter().map(|l| l.name.clone()).collect()
+    }
+}
+
+/// True for the layers the rain makes ("rain 01", ...).
+pub fn is_rain_layer(name: &str) -> bool {
+    name.starts_with("rain ")
+}
+
+fn style_stack(stack: &mut Stack, original: &[(f32, bool)], preset: &Preset) {
+    let mut rain_index = 0;
+    for (layer, &(opacity, visible)) in stack.layers.iter_mut().zip(original) {
+        layer.opacity = opacity;
+        layer.visible = visible;
+        if is_rain_layer(&layer.name) {
+            layer.opacity = preset.stain.opacity;
+            if let LayerPixels::Tint { color, .. } = &mut layer.pixels {
+                *color = preset.stain.color;
+            }
+            layer.visible = rain_index < preset.rain.layers;
+            rain_index += 1;
+        }
+    }
+}
+
+/// Preset fields a finished stack can follow without a new simulation.
+pub const RESTYLE_ONLY: &[&str] = &["stain.color", "stain.opacity"];
+
+/// Whether going from the preset a stack was simulated with to `next` needs
+/// a new simulation. Stain colour and opacity never do; fewer rainfalls do
+/// not either when the stack holds only rain layers (`only_rain`): each
+/// rainfall depends only on the ones before it, so the first N of M are the
+/// N-rainfall run. (Moss grows from the wall's state after the last one.)
+pub fn needs_simulation(sim: &Preset, next: &Preset, only_rain: bool) -> bool {
+    let (Ok(a), Ok(b)) = (toml::Value::try_from(sim), toml::Value::try_from(next)) else {
+        return true;
+    };
+    let mut changed = Vec::new();
+    diff_paths(&a, &b, String::new(), &mut changed);
+    changed.iter().any(|path| match path.as_str() {
+        p if RESTYLE_ONLY.contains(&p) => false,
+        "rain.layers" => {
+            next.rain.layers > sim.rain.layers || !only_rain
+        }
+        _ => true,
+    })
+}
+
+/// Dotted paths of the leaves that differ between two TOML values.
+pub fn diff_paths(a: &toml::Value, b: &toml::Value, prefix: String, out: &mut Vec<String>) {
+    match (a, b) {
+        (toml::Value::Table(ta), toml::Value::Table(tb)) => {
+            for (k, va) in ta {
+                let path = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+                match tb.get(k) {
+                    Some(vb) => diff_paths(va, vb, path, out),
+                    None => out.push(path),
+                }
+            }
+            for k in tb.keys().filter(|k| !ta.contains_key(*k)) {
+                out.push(if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") });
+            }
+        }
+        _ if a != b => out.push(prefix),
+        _ => {}
+    }
+}
+
+/// An image as an egui texture source.
+pub fn to_color_image(img: &DynamicImage) -> ColorImage {
+    let size = [img.width() as usize, img.height() as usize];
+    match img {
+        DynamicImage::ImageRgb8(rgb) => ColorImage::from_rgb(size, rgb.as_raw()),
+        DynamicImage::ImageRgba8(rgba) => ColorImage::from_rgba_unmultiplied(size, rgba.as_raw()),
+        other if other.color().has_alpha() => ColorImage::from_rgba_unmultiplied(size, other.to_rgba8().as_raw()),
+        other => ColorImage::from_rgb(size, other.to_rgb8().as_raw()),
+    }
+}
+
+/// One full-resolution export.
+#[derive(Debug, Clone)]
+pub struct ExportJob {
+    /// Full-size photo and mask.
+    pub scene: Scene,
+    /// Perspective quad, photo pixels.
+    pub quad: Option<Quad>,
+    /// The preset with the document's source lines.
+    pub preset: Preset,
+    /// Layer visibility and opacity.
+    pub layers: BTreeMap<String, LayerSetting>,
+    /// Output file; its extension picks the format.
+    pub path: PathBuf,
+}
+
+/// What an export wrote.
+#[derive(Debug, Clone)]
+pub struct Exported {
+    /// The file.
+    pub path: PathBuf,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Number of layers.
+    pub layers: usize,
+}
+
+/// Runs the pipeline at full resolution and saves the result.
+///
+/// # Errors
+/// As [`perspective::pipeline_with_quad`] and [`export::save`].
+pub fn export(job: ExportJob, progress: &Progress) -> Result<Exported> {
+    crate::io::Format::from_path(&job.path)?;
+    let out = perspective::pipeline_with_quad(&job.scene, job.quad.as_ref(), &job.preset, &progress.span(0.0, 0.9))?;
+    let mut stack = out.stack;
+    let original: Vec<_> = stack.layers.iter().map(|l| (l.opacity, l.visible)).collect();
+    style_stack(&mut stack, &original, &job.preset);
+    apply_layer_settings(&job.layers, &mut stack);
+    progress.update("writing", 0.92);
+    export::save(&stack, &job.path)?;
+    progress.update("done", 1.0);
+    Ok(Exported {
+        path: job.path,
+        width: stack.base.width(),
+        height: stack.base.height(),
+        layers: stack.layers.len(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rain only: other effects (moss grows from the final wetness) depend on
+    /// the number of rainfalls. Effects a build lacks are skipped.
+    fn only_rain(stack: &Stack) -> bool {
+        stack.layers.iter().all(|l| is_rain_layer(&l.name))
+    }
+
+    fn rain_only(p: &mut Preset) {
+        for effect in ["moss", "dust"] {
+            let _ = p.set(&format!("{effect}.enabled=false"));
+        }
+    }
+
+    #[test]
+    fn proxy_is_about_one_megapixel_and_averages_the_mask() {
+        let photo = Arc::new(Photo::new(DynamicImage::ImageRgb8(image::RgbImage::new(3000, 2000))));
+        let mut mask = GrayImage::new(3000, 2000);
+        for y in 0..2000 {
+            for x in 0..1500 {
+                mask.put_pixel(x, y, image::Luma([255]));
+            }
+        }
+        let p = Proxy::new(&photo, &mask, PROXY_PIXELS);
+        let (w, h) = (p.photo.width(), p.photo.height());
+        assert!((w * h) as f64 / 1e6 > 0.95 && (w * h) as f64 / 1e6 < 1.05, "{w}x{h}");
+        assert_eq!(p.mask.dimensions(), (w, h));
+        assert_eq!(p.mask.get_pixel(10, 10)[0], 255);
+        assert_eq!(p.mask.get_pixel(w - 10, 10)[0], 0);
+        let mid = p.mask.get_pixel(w / 2, 10)[0];
+        assert!(mid > 0, "edge is averaged: {mid}");
+        assert_eq!(p.to_proxy([3000.0, 2000.0]), [w as f32, h as f32]);
+        let small = Proxy::new(&Arc::new(Photo::new(DynamicImage::ImageRgb8(image::RgbImage::new(100, 80)))), &GrayImage::new(100, 80), PROXY_PIXELS);
+        assert!(small.is_full_size());
+    }
+
+    #[test]
+    fn what_needs_a_new_simulation() {
+        let d = crate::demo::facade(64, 48);
+        let scene = Scene::new(d.photo, d.region).unwrap();
+        let mut sim = Preset::default();
+        sim.rain.layers = 3;
+        sim.rain.droplets = 50;
+        rain_only(&mut sim);
+        let stack = crate::pipeline::run(&scene, &sim, &Progress::none()).unwrap().stack;
+        let mut next = sim.clone();
+        next.stain.opacity = 0.3;
+        next.stain.color = [10, 20, 30];
+        assert!(!needs_simulation(&sim, &next, only_rain(&stack)));
+        next.rain.layers = 2;
+        assert!(!needs_simulation(&sim, &next, only_rain(&stack)), "fewer rainfalls: hide the last ones");
+        assert!(needs_simulation(&sim, &next, false), "unless other layers depend on them");
+        next.rain.layers = 4;
+        assert!(needs_simulation(&sim, &next, only_rain(&stack)));
+        let mut k = sim.clone();
+        k.rain.k_a = 0.9;
+        assert!(needs_simulation(&sim, &k, only_rain(&stack)));
+    }
+
+    #[test]
+    fn first_rainfalls_of_a_longer_run_are_the_shorter_run() {
+        // What lets the time slider scrub down without re-simulating.
+        let d = crate::demo::facade(96, 72);
+        let scene = Scene::new(d.photo, d.region).unwrap();
+        let mut p = Preset::default();
+        p.rain.source_lines = d.source_lines;
+        p.rain.droplets = 200;
+        p.rain.layers = 4;
+        rain_only(&mut p);
+        let long = crate::pipeline::run(&scene, &p, &Progress::none()).unwrap().stack;
+        p.rain.layers = 2;
+        let short = crate::pipeline::run(&scene, &p, &Progress::none()).unwrap().stack;
+        for (a, b) in short.layers.iter().zip(&long.layers) {
+            assert_eq!(a.to_rgba(), b.to_rgba(), "{}", a.name);
+        }
+    }
+
+    #[test]
+    fn restyle_matches_a_fresh_simulation() {
+        let d = crate::demo::facade(96, 72);
+        let job = |layers: u32, opacity: f32| {
+            let mut p = Preset::default();
+            p.rain.source_lines = d.source_lines.clone();
+            p.rain.droplets = 200;
+            p.rain.layers = layers;
+            p.stain.opacity = opacity;
+            rain_only(&mut p);
+            PreviewJob {
+                scene: Scene::new(d.photo.clone(), d.region.clone()).unwrap(),
+                quad: None,
+                preset: p,
+                layers: BTreeMap::new(),
+            }
+        };
+        let mut a = simulate(job(4, 0.8), &Progress::none()).unwrap();
+        let fresh = simulate(job(2, 0.5), &Progress::none()).unwrap();
+        let target = job(2, 0.5).preset;
+        assert!(!needs_simulation(&a.sim_preset, &target, only_rain(&a.stack)));
+        a.restyle(&target, &BTreeMap::new());
+        assert_eq!(a.image, fresh.image);
+    }
+}
