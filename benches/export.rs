@@ -31,7 +31,11 @@ fn rain_alpha(layer: u64, region: &GrayImage) -> GrayImage {
             let h = hash(layer * 1_000_003 + x as u64);
             let start = (h % H as u64) as u32;
             let len = ((h >> 20) % (H as u64 / 2)) as u32;
-            let strength = if (h >> 40) % 3 == 0 { ((h >> 44) % 200) as f32 } else { 0.0 };
+            let strength = if (h >> 40).is_multiple_of(3) {
+                ((h >> 44) % 200) as f32
+            } else {
+                0.0
+            };
             (start, len, strength)
         })
         .collect();
@@ -54,7 +58,13 @@ fn stack() -> Stack {
         let n = (hash((y as u64) << 32 | x as u64) % 40) as u8;
         Rgb([150 + n, 120 + n, 100 + (x / 100) as u8])
     });
-    let region = GrayImage::from_fn(W, H, |x, y| Luma([if y > 300 && x > 200 && x < 3800 { 255 } else { 0 }]));
+    let region = GrayImage::from_fn(W, H, |x, y| {
+        Luma([if y > 300 && x > 200 && x < 3800 {
+            255
+        } else {
+            0
+        }])
+    });
     let layers = (0..12)
         .map(|i| Layer {
             name: format!("rain {:02}", i + 1),

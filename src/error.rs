@@ -64,6 +64,20 @@ pub enum Error {
         /// Image height.
         img_h: u32,
     },
+    /// The normal map does not match the photo.
+    #[error(
+        "normal map is {map_w}x{map_h} but the image is {img_w}x{img_h}; the normal map must have the image's size"
+    )]
+    NormalMapSize {
+        /// Map width.
+        map_w: u32,
+        /// Map height.
+        map_h: u32,
+        /// Image width.
+        img_w: u32,
+        /// Image height.
+        img_h: u32,
+    },
     /// The region mask selects no pixel.
     #[error("the region mask is empty: paint some wall (white) into it")]
     EmptyRegion,

@@ -148,15 +148,21 @@ impl Grid {
     ) -> GrayImage {
         let mut out = GrayImage::new(photo_w, photo_h);
         let (gw, gh) = (self.width, self.height);
-        // Per photo column: left cell, right cell, weight of the right one.
-        let cols: Vec<(usize, usize, f32)> = (0..self.box_w)
-            .map(|x| {
-                let g = ((x as f32 + 0.5) / self.scale - 0.5).clamp(0.0, (gw - 1) as f32);
-                let a = g as usize;
-                (a, (a + 1).min(gw - 1), g - a as f32)
-            })
-            .collect();
+        // Photo columns grouped by the pair of grid cells they interpolate
+        // between: (left cell, first column, end column); tx per column.
+        let mut spans: Vec<(usize, usize, usize)> = Vec::new();
+        let mut tx = Vec::with_capacity(self.box_w as usize);
+        for x in 0..self.box_w as usize {
+            let g = ((x as f32 + 0.5) / self.scale - 0.5).clamp(0.0, (gw - 1) as f32);
+            let a = g as usize;
+            tx.push(g - a as f32);
+            match spans.last_mut() {
+                Some(s) if s.0 == a => s.2 = x + 1,
+                _ => spans.push((a, x, x + 1)),
+            }
+        }
         let stride = photo_w as usize;
+        let x0 = self.x0 as usize;
         out.par_chunks_mut(stride)
             .enumerate()
             .skip(self.y0 as usize)
@@ -175,14 +181,17 @@ impl Grid {
                     .zip(bottom)
                     .map(|(t, b)| t + (b - t) * ty)
                     .collect();
-                let x0 = self.x0 as usize;
-                let mask_row =
-                    mask.map(|m| &m.as_raw()[y * stride + x0..y * stride + x0 + cols.len()]);
-                let out = &mut row[x0..x0 + cols.len()];
-                for (i, (o, &(a, b, tx))) in out.iter_mut().zip(&cols).enumerate() {
-                    let weight = mask_row.map_or(255.0, |m| m[i] as f32);
-                    let v = (line[a] + (line[b] - line[a]) * tx) * weight;
-                    *o = (v + 0.5).clamp(0.0, 255.0) as u8;
+                let mask_row = mask.map(|m| &m.as_raw()[y * stride..(y + 1) * stride]);
+                for &(a, start, end) in &spans {
+                    let (va, vb) = (line[a], line[(a + 1).min(gw - 1)]);
+                    if va == 0.0 && vb == 0.0 {
+                        continue; // transparent span: most of a streak layer
+                    }
+                    for x in start..end {
+                        let weight = mask_row.map_or(255.0, |m| m[x0 + x] as f32);
+                        let v = (va + (vb - va) * tx[x]) * weight;
+                        row[x0 + x] = (v + 0.5).clamp(0.0, 255.0) as u8;
+                    }
                 }
             });
         out

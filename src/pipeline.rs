@@ -56,11 +56,16 @@ impl Scene {
     /// The scene with a normal map for the dust.
     ///
     /// # Errors
-    /// [`Error::MaskSize`] for a map of another size than the photo.
+    /// [`Error::NormalMapSize`] for a map of another size than the photo.
     pub fn with_normals(mut self, normals: RgbImage) -> Result<Scene> {
         let (w, h) = (self.photo.width(), self.photo.height());
         if normals.dimensions() != (w, h) {
-            return Err(Error::MaskSize { mask_w: normals.width(), mask_h: normals.height(), img_w: w, img_h: h });
+            return Err(Error::NormalMapSize {
+                map_w: normals.width(),
+                map_h: normals.height(),
+                img_w: w,
+                img_h: h,
+            });
         }
         self.normals = Some(Arc::new(normals));
         Ok(self)
@@ -208,7 +213,10 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
     let mut reports = Vec::with_capacity(rain.layers.len());
     for (i, rl) in rain.layers.iter().enumerate() {
         progress.check()?;
-        progress.update("stain", 0.7 + 0.1 * i as f32 / rain.layers.len().max(1) as f32);
+        progress.update(
+            "stain",
+            0.7 + 0.1 * i as f32 / rain.layers.len().max(1) as f32,
+        );
         let cov = rain::stain::coverage(&rl.deposit, grid.width, grid.height, d_max, &preset.stain);
         let alpha = grid.upsample(&cov, mask, w, h);
         let layer = Layer {
@@ -231,7 +239,8 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
         false => None,
         true => {
             let input = moss_input(&grid, &luma, &region, &rain, preset);
-            let (layer, stats) = moss_layer(&input, &grid, &wall, preset, &progress.span(0.8, 0.9))?;
+            let (layer, stats) =
+                moss_layer(&input, &grid, &wall, preset, &progress.span(0.8, 0.9))?;
             reports.push(LayerReport::of(&layer, None));
             layers.push(layer);
             clock.lap("moss");
@@ -241,7 +250,12 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
     let dust = match preset.dust.enabled {
         false => None,
         true => {
-            let (new, stats) = dust_layers(&wall, scene.normals.as_deref(), preset, &progress.span(0.9, 1.0))?;
+            let (new, stats) = dust_layers(
+                &wall,
+                scene.normals.as_deref(),
+                preset,
+                &progress.span(0.9, 1.0),
+            )?;
             for layer in new {
                 reports.push(LayerReport::of(&layer, None));
                 layers.push(layer);
@@ -253,7 +267,10 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
     progress.update("done", 1.0);
 
     let report = Report {
-        image: Size { width: w, height: h },
+        image: Size {
+            width: w,
+            height: h,
+        },
         grid: GridReport {
             width: grid.width,
             height: grid.height,
@@ -293,18 +310,36 @@ impl LayerReport {
 
 /// What moss grows from: the rain's final water and dirt, or (with no
 /// rainfall) the preset's humidity.
-fn moss_input<'a>(grid: &Grid, luma: &'a [f32], region: &'a [bool], rain: &'a RainOutput, preset: &Preset) -> MossInput<'a> {
+fn moss_input<'a>(
+    grid: &Grid,
+    luma: &'a [f32],
+    region: &'a [bool],
+    rain: &'a RainOutput,
+    preset: &Preset,
+) -> MossInput<'a> {
     let wet = (!rain.layers.is_empty()).then(|| Wet {
         water: &rain.water,
         saturation: preset.rain.saturation,
         dirt: &rain.dirt,
         d_max: moss::d_max(&rain.dirt, region, preset.stain.percentile),
     });
-    MossInput { width: grid.width, height: grid.height, luma, region, wet }
+    MossInput {
+        width: grid.width,
+        height: grid.height,
+        luma,
+        region,
+        wet,
+    }
 }
 
 /// The "moss" layer.
-fn moss_layer(input: &MossInput, grid: &Grid, wall: &Region, preset: &Preset, progress: &Progress) -> Result<(Layer, MossStats)> {
+fn moss_layer(
+    input: &MossInput,
+    grid: &Grid,
+    wall: &Region,
+    preset: &Preset,
+    progress: &Progress,
+) -> Result<(Layer, MossStats)> {
     let grown = moss::grow(input, grid, wall, &preset.moss, preset.seed, progress)?;
     let layer = Layer {
         name: "moss".into(),
@@ -317,7 +352,12 @@ fn moss_layer(input: &MossInput, grid: &Grid, wall: &Region, preset: &Preset, pr
 }
 
 /// The "dust film" and "dust granules" layers.
-fn dust_layers(wall: &Region, normals: Option<&RgbImage>, preset: &Preset, progress: &Progress) -> Result<([Layer; 2], DustStats)> {
+fn dust_layers(
+    wall: &Region,
+    normals: Option<&RgbImage>,
+    preset: &Preset,
+    progress: &Progress,
+) -> Result<([Layer; 2], DustStats)> {
     let p = &preset.dust;
     let (film, granules, stats) = dust::accumulate(wall, normals, p, preset.seed, progress)?;
     let layer = |name: &str, opacity: f32, pixels: LayerPixels| Layer {
@@ -331,7 +371,10 @@ fn dust_layers(wall: &Region, normals: Option<&RgbImage>, preset: &Preset, progr
     let granules = layer(
         "dust granules",
         p.granule_opacity,
-        LayerPixels::Tint { color: p.granule_color, alpha: granules },
+        LayerPixels::Tint {
+            color: p.granule_color,
+            alpha: granules,
+        },
     );
     Ok(([film, granules], stats))
 }

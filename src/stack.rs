@@ -205,6 +205,14 @@ impl Channel for u16 {
     }
 }
 
+/// One layer over one pixel (channels in 0..1): `b + (blend(b, c) - b) * a`.
+#[inline]
+fn blend_pixel(mode: BlendMode, px: &mut [f32], c: [f32; 3], a: f32) {
+    for (b, c) in px.iter_mut().zip(c) {
+        *b += (mode.blend(*b, c) - *b) * a;
+    }
+}
+
 fn composite_buffer<P, T>(
     base: &ImageBuffer<P, Vec<T>>,
     channels: usize,
@@ -218,24 +226,37 @@ where
     let (w, h) = base.dimensions();
     let row_len = w as usize * channels;
     let mut out = base.as_raw().clone();
+    let wu = w as usize;
     out.par_chunks_exact_mut(row_len)
         .enumerate()
         .for_each(|(y, row)| {
             let mut acc: Vec<f32> = row.iter().map(|v| v.level() / full).collect();
-            let mut touched = vec![false; w as usize];
-            let mut src = vec![0u8; w as usize * 4];
+            let mut touched = vec![false; wu];
             for layer in layers {
-                layer.rgba_row(y as u32, &mut src);
-                for (x, s) in src.chunks_exact(4).enumerate() {
-                    if s[3] == 0 {
-                        continue;
+                // Alpha byte to effective alpha, opacity included.
+                let o = layer.opacity / 255.0;
+                match &layer.pixels {
+                    LayerPixels::Tint { color, alpha } => {
+                        let c = color.map(|v| v as f32 / 255.0);
+                        let alpha = &alpha.as_raw()[y * wu..(y + 1) * wu];
+                        for (x, &a) in alpha.iter().enumerate().filter(|(_, a)| **a != 0) {
+                            touched[x] = true;
+                            let px = &mut acc[x * channels..x * channels + 3];
+                            blend_pixel(layer.blend, px, c, a as f32 * o);
+                        }
                     }
-                    touched[x] = true;
-                    let a = s[3] as f32 / 255.0 * layer.opacity;
-                    for c in 0..3 {
-                        let b = acc[x * channels + c];
-                        let blended = layer.blend.blend(b, s[c] as f32 / 255.0);
-                        acc[x * channels + c] = b + (blended - b) * a;
+                    LayerPixels::Rgba(img) => {
+                        let src = &img.as_raw()[y * wu * 4..(y + 1) * wu * 4];
+                        for (x, s) in src.chunks_exact(4).enumerate().filter(|(_, s)| s[3] != 0) {
+                            touched[x] = true;
+                            let c = [
+                                s[0] as f32 / 255.0,
+                                s[1] as f32 / 255.0,
+                                s[2] as f32 / 255.0,
+                            ];
+                            let px = &mut acc[x * channels..x * channels + 3];
+                            blend_pixel(layer.blend, px, c, s[3] as f32 * o);
+                        }
                     }
                 }
             }

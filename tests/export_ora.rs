@@ -37,16 +37,22 @@ fn stack(photo: DynamicImage) -> Stack {
                 })),
             },
         ],
-        region: Some(Arc::new(GrayImage::from_fn(W, H, |x, _| Luma([if x > 10 { 255 } else { 0 }])))),
+        region: Some(Arc::new(GrayImage::from_fn(W, H, |x, _| {
+            Luma([if x > 10 { 255 } else { 0 }])
+        }))),
     }
 }
 
 fn photo8() -> DynamicImage {
-    DynamicImage::ImageRgb8(image::RgbImage::from_fn(W, H, |x, y| Rgb([x as u8, y as u8, 77])))
+    DynamicImage::ImageRgb8(image::RgbImage::from_fn(W, H, |x, y| {
+        Rgb([x as u8, y as u8, 77])
+    }))
 }
 
 fn entry(zip: &mut zip::ZipArchive<std::fs::File>, name: &str) -> Vec<u8> {
-    let mut f = zip.by_name(name).unwrap_or_else(|_| panic!("{name} in the zip"));
+    let mut f = zip
+        .by_name(name)
+        .unwrap_or_else(|_| panic!("{name} in the zip"));
     let mut buf = Vec::new();
     f.read_to_end(&mut buf).unwrap();
     buf
@@ -64,18 +70,35 @@ fn structure_follows_the_spec() {
     assert_eq!(&bytes[..4], b"PK\x03\x04");
     assert_eq!(u16::from_le_bytes([bytes[8], bytes[9]]), 0, "stored");
     assert_eq!(&bytes[30..38], b"mimetype");
-    assert_eq!(u16::from_le_bytes([bytes[28], bytes[29]]), 0, "no extra field");
+    assert_eq!(
+        u16::from_le_bytes([bytes[28], bytes[29]]),
+        0,
+        "no extra field"
+    );
     assert_eq!(&bytes[38..54], b"image/openraster");
 
     let mut zip = zip::ZipArchive::new(std::fs::File::open(&path).unwrap()).unwrap();
-    let names: Vec<String> = (0..zip.len()).map(|i| zip.by_index(i).unwrap().name().to_string()).collect();
+    let names: Vec<String> = (0..zip.len())
+        .map(|i| zip.by_index(i).unwrap().name().to_string())
+        .collect();
     assert_eq!(names[0], "mimetype");
-    assert_eq!(zip.by_index(0).unwrap().compression(), zip::CompressionMethod::Stored);
+    assert_eq!(
+        zip.by_index(0).unwrap().compression(),
+        zip::CompressionMethod::Stored
+    );
     assert_eq!(names[1], "stack.xml");
     let n = names.len();
-    assert!(names[2..n - 2].iter().all(|s| s.starts_with("data/") && s.ends_with(".png")), "{names:?}");
+    assert!(
+        names[2..n - 2]
+            .iter()
+            .all(|s| s.starts_with("data/") && s.ends_with(".png")),
+        "{names:?}"
+    );
     assert_eq!(n - 4, 4, "photo, two layers, region: {names:?}");
-    assert_eq!(&names[n - 2..], ["mergedimage.png", "Thumbnails/thumbnail.png"]);
+    assert_eq!(
+        &names[n - 2..],
+        ["mergedimage.png", "Thumbnails/thumbnail.png"]
+    );
 
     // stack.xml, top first.
     let xml = String::from_utf8(entry(&mut zip, "stack.xml")).unwrap();
@@ -85,10 +108,20 @@ fn structure_follows_the_spec() {
     assert_eq!(image.attribute("w"), Some("300"));
     assert_eq!(image.attribute("h"), Some("200"));
     let stack_el = image.children().find(|n| n.has_tag_name("stack")).unwrap();
-    let layers: Vec<_> = stack_el.children().filter(|n| n.has_tag_name("layer")).collect();
+    let layers: Vec<_> = stack_el
+        .children()
+        .filter(|n| n.has_tag_name("layer"))
+        .collect();
     let attrs = |i: usize, a: &str| layers[i].attribute(a).unwrap().to_string();
     let got: Vec<(String, String, String, String)> = (0..layers.len())
-        .map(|i| (attrs(i, "name"), attrs(i, "composite-op"), attrs(i, "visibility"), attrs(i, "opacity")))
+        .map(|i| {
+            (
+                attrs(i, "name"),
+                attrs(i, "composite-op"),
+                attrs(i, "visibility"),
+                attrs(i, "opacity"),
+            )
+        })
         .collect();
     let want = [
         ("region", "svg:src-over", "hidden", 1.0),
@@ -104,7 +137,9 @@ fn structure_follows_the_spec() {
 
     // Every layer PNG: photo size, the layer's pixels.
     let expected: Vec<RgbaImage> = vec![
-        RgbaImage::from_fn(W, H, |x, _| Rgba([255, 255, 255, if x > 10 { 255 } else { 0 }])),
+        RgbaImage::from_fn(W, H, |x, _| {
+            Rgba([255, 255, 255, if x > 10 { 255 } else { 0 }])
+        }),
         stack.layers[1].to_rgba(),
         stack.layers[0].to_rgba(),
         stack.base.image().to_rgba8(),
@@ -130,7 +165,9 @@ fn structure_follows_the_spec() {
 
 #[test]
 fn sixteen_bit_photo_layer_stays_sixteen_bit() {
-    let photo = ImageBuffer::<Rgb<u16>, Vec<u16>>::from_fn(W, H, |x, y| Rgb([(x * 200) as u16, (y * 300) as u16, 1]));
+    let photo = ImageBuffer::<Rgb<u16>, Vec<u16>>::from_fn(W, H, |x, y| {
+        Rgb([(x * 200) as u16, (y * 300) as u16, 1])
+    });
     let stack = stack(DynamicImage::ImageRgb16(photo.clone()));
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("deep.ora");
@@ -144,7 +181,9 @@ fn sixteen_bit_photo_layer_stays_sixteen_bit() {
 fn missing_folder_is_a_clear_error_and_leaves_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("missing").join("aged.ora");
-    let err = export::save(&stack(photo8()), &path).unwrap_err().to_string();
+    let err = export::save(&stack(photo8()), &path)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("does not exist"), "{err}");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }

@@ -22,7 +22,9 @@ fn layers() -> Vec<Layer> {
             visible: true,
             pixels: LayerPixels::Tint {
                 color: [90, 80, 70],
-                alpha: GrayImage::from_fn(W, H, |x, y| Luma([((x * 7 + y * 3) % 256) as u8 * (x % 3 != 0) as u8])),
+                alpha: GrayImage::from_fn(W, H, |x, y| {
+                    Luma([((x * 7 + y * 3) % 256) as u8 * (x % 3 != 0) as u8])
+                }),
             },
         },
         Layer {
@@ -31,7 +33,12 @@ fn layers() -> Vec<Layer> {
             opacity: 0.55,
             visible: true,
             pixels: LayerPixels::Rgba(RgbaImage::from_fn(W, H, |x, y| {
-                Rgba([(x * 6) as u8, 120, (y * 11) as u8, if y > 10 { (x * 5) as u8 } else { 0 }])
+                Rgba([
+                    (x * 6) as u8,
+                    120,
+                    (y * 11) as u8,
+                    if y > 10 { (x * 5) as u8 } else { 0 },
+                ])
             })),
         },
         Layer {
@@ -52,7 +59,9 @@ fn region() -> GrayImage {
 }
 
 fn stack8() -> Stack {
-    let photo = image::RgbImage::from_fn(W, H, |x, y| Rgb([(x * 5) as u8, (y * 9) as u8, 200 - x as u8]));
+    let photo = image::RgbImage::from_fn(W, H, |x, y| {
+        Rgb([(x * 5) as u8, (y * 9) as u8, 200 - x as u8])
+    });
     Stack {
         base: Arc::new(Photo::new(DynamicImage::ImageRgb8(photo))),
         layers: layers(),
@@ -90,9 +99,24 @@ fn round_trip_through_the_psd_crate() {
     // Effect layers: pixels, blend mode, opacity byte.
     for l in &stack.layers {
         let got = psd.layer_by_name(&l.name).unwrap();
-        assert_eq!((got.width() as u32, got.height() as u32), (W, H), "{}", l.name);
-        assert_eq!(got.rgba(), l.to_rgba().as_raw().as_slice(), "pixels of {}", l.name);
-        assert_eq!(got.opacity(), (l.opacity * 255.0).round() as u8, "{}", l.name);
+        assert_eq!(
+            (got.width() as u32, got.height() as u32),
+            (W, H),
+            "{}",
+            l.name
+        );
+        assert_eq!(
+            got.rgba(),
+            l.to_rgba().as_raw().as_slice(),
+            "pixels of {}",
+            l.name
+        );
+        assert_eq!(
+            got.opacity(),
+            (l.opacity * 255.0).round() as u8,
+            "{}",
+            l.name
+        );
         // The psd crate does not export its BlendMode type; compare names.
         let blend = match l.blend {
             BlendMode::Normal => "Normal",
@@ -123,7 +147,11 @@ fn hidden_layers_have_flag_bit_1_set() {
     let bytes = export::psd::to_vec(&stack8()).unwrap();
     let records = layer_records(&bytes);
     let flags: Vec<(String, u8)> = records.iter().map(|r| (r.name.clone(), r.flags)).collect();
-    let hidden: Vec<&str> = flags.iter().filter(|(_, f)| f & 2 != 0).map(|(n, _)| n.as_str()).collect();
+    let hidden: Vec<&str> = flags
+        .iter()
+        .filter(|(_, f)| f & 2 != 0)
+        .map(|(n, _)| n.as_str())
+        .collect();
     assert_eq!(hidden, ["dust film ?", "region"]);
     assert!(records.iter().all(|r| r.channels == [-1, 0, 1, 2]));
 }
@@ -131,7 +159,11 @@ fn hidden_layers_have_flag_bit_1_set() {
 #[test]
 fn sixteen_bit_in_gives_sixteen_bit_out() {
     let photo = ImageBuffer::<Rgb<u16>, Vec<u16>>::from_fn(W, H, |x, y| {
-        Rgb([(x * 1700) as u16, (y * 2800 + 3) as u16, 65535 - (x * y * 60) as u16])
+        Rgb([
+            (x * 1700) as u16,
+            (y * 2800 + 3) as u16,
+            65535 - (x * y * 60) as u16,
+        ])
     });
     let stack = Stack {
         base: Arc::new(Photo::new(DynamicImage::ImageRgb16(photo))),
@@ -143,7 +175,11 @@ fn sixteen_bit_in_gives_sixteen_bit_out() {
     export::save(&stack, &path).unwrap();
 
     let psd = read(&path);
-    assert!(matches!(psd.depth(), psd::PsdDepth::Sixteen), "depth {:?}", psd.depth());
+    assert!(
+        matches!(psd.depth(), psd::PsdDepth::Sixteen),
+        "depth {:?}",
+        psd.depth()
+    );
     let names: Vec<&str> = psd.layers().iter().map(|l| l.name()).collect();
     assert_eq!(names, ["region", "dust film é", "moss", "rain 01", "photo"]);
 
@@ -154,7 +190,10 @@ fn sixteen_bit_in_gives_sixteen_bit_out() {
     let want = stack.composite().to_rgb16();
     assert_eq!(merged.len(), 3);
     for (c, plane) in merged.iter().enumerate() {
-        let got: Vec<u16> = plane.chunks_exact(2).map(|b| u16::from_be_bytes([b[0], b[1]])).collect();
+        let got: Vec<u16> = plane
+            .chunks_exact(2)
+            .map(|b| u16::from_be_bytes([b[0], b[1]]))
+            .collect();
         let expect: Vec<u16> = want.pixels().map(|p| p[c]).collect();
         assert_eq!(got, expect, "channel {c}");
     }
@@ -164,7 +203,10 @@ fn sixteen_bit_in_gives_sixteen_bit_out() {
     let moss = stack.layers[1].to_rgba();
     for (i, c) in [3usize, 0, 1, 2].into_iter().enumerate() {
         let plane = layer_channel(&bytes, &records, 2, i);
-        let got: Vec<u16> = plane.chunks_exact(2).map(|b| u16::from_be_bytes([b[0], b[1]])).collect();
+        let got: Vec<u16> = plane
+            .chunks_exact(2)
+            .map(|b| u16::from_be_bytes([b[0], b[1]]))
+            .collect();
         let expect: Vec<u16> = moss.pixels().map(|p| p[c] as u16 * 257).collect();
         assert_eq!(got, expect, "moss channel {c}");
     }
@@ -172,17 +214,26 @@ fn sixteen_bit_in_gives_sixteen_bit_out() {
 
 #[test]
 fn rgba_photo_keeps_its_transparency() {
-    let photo = RgbaImage::from_fn(W, H, |x, y| Rgba([100, (x * 3) as u8, (y * 4) as u8, (x * 7) as u8]));
+    let photo = RgbaImage::from_fn(W, H, |x, y| {
+        Rgba([100, (x * 3) as u8, (y * 4) as u8, (x * 7) as u8])
+    });
     let stack = Stack {
         base: Arc::new(Photo::new(DynamicImage::ImageRgba8(photo.clone()))),
         layers: Vec::new(),
         region: None,
     };
     let bytes = export::psd::to_vec(&stack).unwrap();
-    assert_eq!(u16::from_be_bytes([bytes[12], bytes[13]]), 4, "merged image has alpha");
+    assert_eq!(
+        u16::from_be_bytes([bytes[12], bytes[13]]),
+        4,
+        "merged image has alpha"
+    );
     let psd = psd::Psd::from_bytes(&bytes).unwrap();
     assert_eq!(psd.layers().len(), 1);
-    assert_eq!(psd.layer_by_name("photo").unwrap().rgba(), photo.as_raw().as_slice());
+    assert_eq!(
+        psd.layer_by_name("photo").unwrap().rgba(),
+        photo.as_raw().as_slice()
+    );
     assert_eq!(psd.rgba(), photo.into_raw());
 }
 
@@ -192,7 +243,10 @@ fn missing_folder_is_a_clear_error_and_leaves_nothing() {
     let path = dir.path().join("no-such-folder").join("aged.psd");
     let err = export::save(&stack8(), &path).unwrap_err();
     let msg = err.to_string();
-    assert!(msg.contains("does not exist") && msg.contains("no-such-folder"), "{msg}");
+    assert!(
+        msg.contains("does not exist") && msg.contains("no-such-folder"),
+        "{msg}"
+    );
     assert!(!path.exists());
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
@@ -205,7 +259,10 @@ fn failed_write_leaves_no_partial_file() {
     let path = dir.path().join("aged.psd");
     std::fs::create_dir(&path).unwrap();
     assert!(export::save(&stack8(), &path).is_err());
-    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(left, [std::ffi::OsString::from("aged.psd")]);
     assert!(path.is_dir());
 }
@@ -213,7 +270,9 @@ fn failed_write_leaves_no_partial_file() {
 #[test]
 fn too_wide_for_psd_is_refused() {
     let stack = Stack {
-        base: Arc::new(Photo::new(DynamicImage::ImageRgb8(image::RgbImage::new(30_001, 1)))),
+        base: Arc::new(Photo::new(DynamicImage::ImageRgb8(image::RgbImage::new(
+            30_001, 1,
+        )))),
         layers: Vec::new(),
         region: None,
     };
@@ -270,7 +329,13 @@ fn layer_records(b: &[u8]) -> Vec<Record> {
         p += 4 + be32(b, p) as usize; // blending ranges
         let len = b[p] as usize;
         let name = String::from_utf8(b[p + 1..p + 1 + len].to_vec()).unwrap();
-        out.push(Record { name, flags, channels, lengths, data_at: 0 });
+        out.push(Record {
+            name,
+            flags,
+            channels,
+            lengths,
+            data_at: 0,
+        });
         at = extra_at + extra;
     }
     for r in &mut out {
@@ -282,7 +347,10 @@ fn layer_records(b: &[u8]) -> Vec<Record> {
 /// Decodes channel `index` (position in the record) of layer `layer`.
 fn layer_channel(b: &[u8], records: &[Record], layer: usize, index: usize) -> Vec<u8> {
     let h = be32(b, 14) as usize;
-    let skip: usize = records[..layer].iter().flat_map(|r| &r.lengths).sum::<usize>()
+    let skip: usize = records[..layer]
+        .iter()
+        .flat_map(|r| &r.lengths)
+        .sum::<usize>()
         + records[layer].lengths[..index].iter().sum::<usize>();
     let mut at = records[0].data_at + skip;
     assert_eq!(be16(b, at), 1, "RLE");
@@ -305,7 +373,9 @@ fn merged_image(b: &[u8]) -> Vec<Vec<u8>> {
     let mut at = ls + 4 + be32(b, ls) as usize;
     assert_eq!(be16(b, at), 1, "RLE");
     at += 2;
-    let counts: Vec<usize> = (0..channels * h).map(|i| be16(b, at + 2 * i) as usize).collect();
+    let counts: Vec<usize> = (0..channels * h)
+        .map(|i| be16(b, at + 2 * i) as usize)
+        .collect();
     at += 2 * channels * h;
     let mut planes = Vec::new();
     for c in 0..channels {

@@ -21,13 +21,18 @@ fn psd_tools_available() -> bool {
         if std::env::var_os("CI").is_some() {
             panic!("python3 with psd-tools is required in CI (python3 -m pip install psd-tools)");
         }
-        eprintln!("SKIPPED: python3 cannot import psd_tools; install it with `python3 -m pip install psd-tools`");
+        eprintln!(
+            "SKIPPED: python3 cannot import psd_tools; install it with `python3 -m pip install psd-tools`"
+        );
     }
     ok
 }
 
 fn grime(args: &[&str]) {
-    let out = Command::new(env!("CARGO_BIN_EXE_grime")).args(args).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_grime"))
+        .args(args)
+        .output()
+        .unwrap();
     assert!(
         out.status.success(),
         "grime {args:?} failed:\n{}{}",
@@ -44,7 +49,11 @@ fn check(psd: &Path, png: &Path, layers: &Path, depth: u32) {
         .args(["--depth", &depth.to_string()])
         .output()
         .unwrap();
-    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
     println!("{text}");
     assert!(out.status.success(), "psd-tools check failed:\n{text}");
 }
@@ -58,8 +67,23 @@ fn psd_tools_reads_the_demo_and_agrees_with_the_png() {
     let d = dir.path();
     let s = |p: &str| d.join(p).to_str().unwrap().to_string();
     grime(&["run", "--demo", "-q", "--seed", "3", "-o", &s("aged.psd")]);
-    grime(&["run", "--demo", "-q", "--seed", "3", "-o", &s("aged.png"), "--layers-dir", &s("layers")]);
-    check(&d.join("aged.psd"), &d.join("aged.png"), &d.join("layers"), 8);
+    grime(&[
+        "run",
+        "--demo",
+        "-q",
+        "--seed",
+        "3",
+        "-o",
+        &s("aged.png"),
+        "--layers-dir",
+        &s("layers"),
+    ]);
+    check(
+        &d.join("aged.psd"),
+        &d.join("aged.png"),
+        &d.join("layers"),
+        8,
+    );
 }
 
 #[test]
@@ -73,11 +97,35 @@ fn psd_tools_reads_a_sixteen_bit_psd() {
     // A 16-bit photo with texture, so the rain has something to follow.
     let photo = ImageBuffer::<Rgb<u16>, Vec<u16>>::from_fn(240, 160, |x, y| {
         let n = ((x * 7919 + y * 104_729) % 97) as u16 * 90;
-        Rgb([30_000 + n + (x * 60) as u16, 28_000 + n + (y * 50) as u16, 25_000 + n])
+        Rgb([
+            30_000 + n + (x * 60) as u16,
+            28_000 + n + (y * 50) as u16,
+            25_000 + n,
+        ])
     });
-    DynamicImage::ImageRgb16(photo).save(d.join("deep.png")).unwrap();
-    grime(&["run", &s("deep.png"), "-q", "--seed", "5", "-o", &s("aged.psd")]);
-    grime(&["run", &s("deep.png"), "-q", "--seed", "5", "-o", &s("aged16.png"), "--layers-dir", &s("layers")]);
+    DynamicImage::ImageRgb16(photo)
+        .save(d.join("deep.png"))
+        .unwrap();
+    grime(&[
+        "run",
+        &s("deep.png"),
+        "-q",
+        "--seed",
+        "5",
+        "-o",
+        &s("aged.psd"),
+    ]);
+    grime(&[
+        "run",
+        &s("deep.png"),
+        "-q",
+        "--seed",
+        "5",
+        "-o",
+        &s("aged16.png"),
+        "--layers-dir",
+        &s("layers"),
+    ]);
     // PIL reads 16-bit RGB PNGs as their high bytes: compare against an
     // 8-bit copy rounded properly instead.
     let flat = image::open(d.join("aged16.png")).unwrap();
@@ -87,5 +135,10 @@ fn psd_tools_reads_a_sixteen_bit_psd() {
         Rgb(p.0.map(|v| ((v as u32 + 128) / 257) as u8))
     });
     flat8.save(d.join("aged8.png")).unwrap();
-    check(&d.join("aged.psd"), &d.join("aged8.png"), &d.join("layers"), 16);
+    check(
+        &d.join("aged.psd"),
+        &d.join("aged8.png"),
+        &d.join("layers"),
+        16,
+    );
 }

@@ -7,7 +7,9 @@ use std::time::{Duration, Instant};
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use grime::gui::egui::{self, ColorImage, Event, Key, Modifiers, PointerButton, Pos2, accesskit::Role};
+use grime::gui::egui::{
+    self, ColorImage, Event, Key, Modifiers, PointerButton, Pos2, accesskit::Role,
+};
 use grime::gui::{AppOptions, GrimeApp};
 use grime::preset::Preset;
 
@@ -23,7 +25,10 @@ fn harness(options: AppOptions) -> Harness<'static, GrimeApp> {
     Harness::builder()
         .with_size(egui::vec2(1280.0, 800.0))
         .with_max_steps(20)
-        .build_ui_state(|ui, app: &mut GrimeApp| app.show(ui), GrimeApp::new(options))
+        .build_ui_state(
+            |ui, app: &mut GrimeApp| app.show(ui),
+            GrimeApp::new(options),
+        )
 }
 
 /// Steps frames until the preview and export workers are idle.
@@ -37,7 +42,10 @@ fn settle(h: &mut Harness<'static, GrimeApp>) {
                 return;
             }
         }
-        assert!(start.elapsed() < Duration::from_secs(600), "the workers never finished");
+        assert!(
+            start.elapsed() < Duration::from_secs(600),
+            "the workers never finished"
+        );
         std::thread::sleep(Duration::from_millis(10));
     }
 }
@@ -48,7 +56,12 @@ fn canvas_point(h: &Harness<'static, GrimeApp>, fx: f32, fy: f32) -> Pos2 {
 }
 
 fn press(h: &Harness<'static, GrimeApp>, pos: Pos2, pressed: bool) {
-    h.event(Event::PointerButton { pos, button: PointerButton::Primary, pressed, modifiers: Modifiers::NONE });
+    h.event(Event::PointerButton {
+        pos,
+        button: PointerButton::Primary,
+        pressed,
+        modifiers: Modifiers::NONE,
+    });
 }
 
 /// Drags between two points given as fractions of the canvas.
@@ -81,7 +94,13 @@ fn click(h: &mut Harness<'static, GrimeApp>, label: &str) {
 /// Pixels where two images differ.
 fn diff(a: &ColorImage, b: &ColorImage) -> Vec<usize> {
     assert_eq!(a.size, b.size);
-    a.pixels.iter().zip(&b.pixels).enumerate().filter(|(_, (p, q))| p != q).map(|(i, _)| i).collect()
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .enumerate()
+        .filter(|(_, (p, q))| p != q)
+        .map(|(i, _)| i)
+        .collect()
 }
 
 fn open_facade(h: &mut Harness<'static, GrimeApp>) {
@@ -92,8 +111,12 @@ fn open_facade(h: &mut Harness<'static, GrimeApp>) {
 
 #[test]
 fn paint_region_add_line_tune_undo_and_export() {
-    let mut h = harness(AppOptions { preset: quick_preset(), ..AppOptions::default() });
+    let mut h = harness(AppOptions {
+        preset: quick_preset(),
+        ..AppOptions::default()
+    });
     open_facade(&mut h);
+    h.check_accessibility(); // every input widget has a name
     let photo = h.state().proxy_image().expect("the sample is open");
     let first = h.state().preview_image().expect("a first preview").clone();
     assert!(!diff(&first, &photo).is_empty(), "the sample ages");
@@ -101,13 +124,22 @@ fn paint_region_add_line_tune_undo_and_export() {
     // Region: clear it, then drag a rectangle over the middle of the facade.
     click(&mut h, "Clear");
     settle(&mut h);
-    assert!(h.state().message().is_some_and(|(m, err)| err && m.contains("empty")), "{:?}", h.state().message());
+    assert!(
+        h.state()
+            .message()
+            .is_some_and(|(m, err)| err && m.contains("empty")),
+        "{:?}",
+        h.state().message()
+    );
     click(&mut h, "Rectangle");
     drag(&mut h, (0.30, 0.25), (0.70, 0.75));
     settle(&mut h);
     let mask = h.state().proxy_mask().unwrap().clone();
     let painted = mask.iter().filter(|&&m| m > 0).count();
-    assert!(painted > 50_000 && painted < 300_000, "painted {painted} px");
+    assert!(
+        painted > 50_000 && painted < 300_000,
+        "painted {painted} px"
+    );
     let inside = |i: usize| mask.as_raw()[i] > 0;
 
     // A source line across the top of the region.
@@ -119,27 +151,44 @@ fn paint_region_add_line_tune_undo_and_export() {
     h.step();
     settle(&mut h);
     assert_eq!(h.state().document().unwrap().lines.len(), lines_before + 1);
-    let before = h.state().preview_image().expect("preview of the region").clone();
+    let before = h
+        .state()
+        .preview_image()
+        .expect("preview of the region")
+        .clone();
     let changed = diff(&before, &photo);
     assert!(!changed.is_empty(), "the region ages");
-    assert!(changed.iter().all(|&i| inside(i)), "only the region changes");
+    assert!(
+        changed.iter().all(|&i| inside(i)),
+        "only the region changes"
+    );
 
     // A slider: the wall's absorption k_a.
-    h.get_by_role_and_label(Role::Slider, "k_a").set_value_accesskit(0.95);
+    h.get_by_role_and_label(Role::Slider, "k_a")
+        .set_value_accesskit(0.95);
     h.step();
     assert_eq!(h.state().document().unwrap().preset.rain.k_a, 0.95);
     settle(&mut h);
     let after = h.state().preview_image().unwrap().clone();
     let changed = diff(&after, &before);
     assert!(!changed.is_empty(), "k_a changes the streaks");
-    assert!(changed.iter().all(|&i| inside(i)), "the preview changed only inside the region");
+    assert!(
+        changed.iter().all(|&i| inside(i)),
+        "the preview changed only inside the region"
+    );
     assert!(diff(&after, &photo).iter().all(|&i| inside(i)));
 
     // Undo brings the parameter and the picture back.
     click(&mut h, "Undo");
-    assert_eq!(h.state().document().unwrap().preset.rain.k_a, Preset::default().rain.k_a);
+    assert_eq!(
+        h.state().document().unwrap().preset.rain.k_a,
+        Preset::default().rain.k_a
+    );
     settle(&mut h);
-    assert!(diff(h.state().preview_image().unwrap(), &before).is_empty(), "undo restores the preview");
+    assert!(
+        diff(h.state().preview_image().unwrap(), &before).is_empty(),
+        "undo restores the preview"
+    );
     // Redo with the keyboard, then undo again.
     h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
     h.step();
@@ -152,16 +201,24 @@ fn paint_region_add_line_tune_undo_and_export() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("aged.png");
     click(&mut h, "Export…");
-    h.get_by_label("Path").set_text_value_accesskit(out.to_str().unwrap());
+    h.get_by_label("Path")
+        .set_text_value_accesskit(out.to_str().unwrap());
     h.step();
     click(&mut h, "Export now");
     settle(&mut h);
-    assert!(matches!(h.state().last_export(), Some(Ok(_))), "{:?}", h.state().message());
+    assert!(
+        matches!(h.state().last_export(), Some(Ok(_))),
+        "{:?}",
+        h.state().message()
+    );
     let img = image::open(&out).unwrap().to_rgb8();
     assert_eq!(img.dimensions(), (960, 720));
     // The sample is under 1 MP, so the preview ran at full size: same pixels.
     let preview = h.state().preview_image().unwrap();
-    let same = img.pixels().zip(&preview.pixels).all(|(p, c)| p.0 == [c.r(), c.g(), c.b()]);
+    let same = img
+        .pixels()
+        .zip(&preview.pixels)
+        .all(|(p, c)| p.0 == [c.r(), c.g(), c.b()]);
     assert!(same, "the export matches the preview");
 }
 
@@ -170,11 +227,15 @@ fn unreadable_images_and_failed_writes_show_messages() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("broken.jpg");
     std::fs::write(&bad, b"not a jpeg at all").unwrap();
-    let mut h = harness(AppOptions { preset: quick_preset(), ..AppOptions::default() });
+    let mut h = harness(AppOptions {
+        preset: quick_preset(),
+        ..AppOptions::default()
+    });
     h.step();
     click(&mut h, "File");
     click(&mut h, "Open image…");
-    h.get_by_label("Path").set_text_value_accesskit(bad.to_str().unwrap());
+    h.get_by_label("Path")
+        .set_text_value_accesskit(bad.to_str().unwrap());
     h.step();
     click(&mut h, "Open");
     h.step();
@@ -183,14 +244,21 @@ fn unreadable_images_and_failed_writes_show_messages() {
     assert!(h.state().document().is_none());
 
     open_facade(&mut h);
-    for target in [Path::new("/nonexistent-grime-dir/aged.png"), Path::new("aged.bmpx")] {
+    for target in [
+        Path::new("/nonexistent-grime-dir/aged.png"),
+        Path::new("aged.bmpx"),
+    ] {
         click(&mut h, "Export…");
-        h.get_by_label("Path").set_text_value_accesskit(target.to_str().unwrap());
+        h.get_by_label("Path")
+            .set_text_value_accesskit(target.to_str().unwrap());
         h.step();
         click(&mut h, "Export now");
         settle(&mut h);
         let (msg, err) = h.state().message().expect("a message");
-        assert!(err && (msg.contains("does not exist") || msg.contains("unknown image extension")), "{msg}");
+        assert!(
+            err && (msg.contains("does not exist") || msg.contains("unknown image extension")),
+            "{msg}"
+        );
     }
 }
 
@@ -201,10 +269,14 @@ fn time_slider_and_layers_recomposite_without_simulating() {
     for effect in ["moss", "dust"] {
         let _ = p.set(&format!("{effect}.enabled=false"));
     }
-    let mut h = harness(AppOptions { preset: p, ..AppOptions::default() });
+    let mut h = harness(AppOptions {
+        preset: p,
+        ..AppOptions::default()
+    });
     open_facade(&mut h);
     let four = h.state().preview_image().unwrap().clone();
-    h.get_by_role_and_label(Role::Slider, "Rainfalls").set_value_accesskit(2.0);
+    h.get_by_role_and_label(Role::Slider, "Rainfalls")
+        .set_value_accesskit(2.0);
     h.step();
     // No simulation: the preview is already there in the same frame.
     assert!(!h.state().is_busy());
@@ -219,7 +291,10 @@ fn time_slider_and_layers_recomposite_without_simulating() {
 
 #[test]
 fn lasso_wand_detect_ledges_and_quad() {
-    let mut h = harness(AppOptions { preset: quick_preset(), ..AppOptions::default() });
+    let mut h = harness(AppOptions {
+        preset: quick_preset(),
+        ..AppOptions::default()
+    });
     open_facade(&mut h);
     let n0 = h.state().document().unwrap().lines.len();
     click(&mut h, "Detect ledges");
@@ -234,22 +309,46 @@ fn lasso_wand_detect_ledges_and_quad() {
     }
     h.key_press(Key::Enter);
     h.step();
-    let lasso = h.state().document().unwrap().mask.iter().filter(|&&m| m > 0).count();
+    let lasso = h
+        .state()
+        .document()
+        .unwrap()
+        .mask
+        .iter()
+        .filter(|&&m| m > 0)
+        .count();
     assert!(lasso > 10_000, "lasso filled {lasso}");
 
     click(&mut h, "Wand");
     click_at(&mut h, 0.5, 0.03); // the sky
-    let wand = h.state().document().unwrap().mask.iter().filter(|&&m| m > 0).count();
-    assert!(wand > lasso + 10_000, "wand added the sky: {lasso} -> {wand}");
+    let wand = h
+        .state()
+        .document()
+        .unwrap()
+        .mask
+        .iter()
+        .filter(|&&m| m > 0)
+        .count();
+    assert!(
+        wand > lasso + 10_000,
+        "wand added the sky: {lasso} -> {wand}"
+    );
 
     click(&mut h, "Quad");
     drag(&mut h, (0.1, 0.2), (0.9, 0.9));
     assert!(h.state().document().unwrap().quad.is_some());
     settle(&mut h);
-    assert!(h.state().preview_image().is_some(), "{:?}", h.state().message());
+    assert!(
+        h.state().preview_image().is_some(),
+        "{:?}",
+        h.state().message()
+    );
     h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     h.step();
-    assert!(h.state().document().unwrap().quad.is_none(), "undo removes the quad");
+    assert!(
+        h.state().document().unwrap().quad.is_none(),
+        "undo removes the quad"
+    );
     settle(&mut h);
 }
 
@@ -258,50 +357,99 @@ fn presets_and_projects_round_trip_through_the_ui() {
     let dir = tempfile::tempdir().unwrap();
     let preset_path = dir.path().join("mine.toml");
     let project = dir.path().join("facade.grime.json");
-    let mut h = harness(AppOptions { preset: quick_preset(), ..AppOptions::default() });
+    let mut h = harness(AppOptions {
+        preset: quick_preset(),
+        ..AppOptions::default()
+    });
     open_facade(&mut h);
-    h.get_by_role_and_label(Role::Slider, "k_s").set_value_accesskit(0.4);
+    h.get_by_role_and_label(Role::Slider, "k_s")
+        .set_value_accesskit(0.4);
     h.step();
-    for (button, path) in [("Save…", &preset_path)] {
-        click(&mut h, button);
-        h.get_by_label("Path").set_text_value_accesskit(path.to_str().unwrap());
-        h.step();
-        click(&mut h, "Save");
-    }
-    let saved = Preset::from_toml(&std::fs::read_to_string(&preset_path).unwrap()).unwrap();
-    assert_eq!(saved.rain.k_s, 0.4);
-    assert!(!saved.rain.source_lines.is_empty(), "the lines go with the preset, as for the CLI");
-    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
-    h.step();
-    h.get_by_label("Path").set_text_value_accesskit(project.to_str().unwrap());
+    click(&mut h, "Save…");
+    h.get_by_label("Path")
+        .set_text_value_accesskit(preset_path.to_str().unwrap());
     h.step();
     click(&mut h, "Save");
-    assert!(project.exists() && dir.path().join("facade.mask.png").exists(), "{:?}", h.state().message());
+    let saved = Preset::from_toml(&std::fs::read_to_string(&preset_path).unwrap()).unwrap();
+    assert_eq!(saved.rain.k_s, 0.4);
+    assert!(
+        !saved.rain.source_lines.is_empty(),
+        "the lines go with the preset, as for the CLI"
+    );
+    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    h.step();
+    h.get_by_label("Path")
+        .set_text_value_accesskit(project.to_str().unwrap());
+    h.step();
+    click(&mut h, "Save");
+    assert!(
+        project.exists() && dir.path().join("facade.mask.png").exists(),
+        "{:?}",
+        h.state().message()
+    );
     settle(&mut h);
 
-    let mut h2 = harness(AppOptions { image: Some(project), ..AppOptions::default() });
+    let mut h2 = harness(AppOptions {
+        image: Some(project),
+        ..AppOptions::default()
+    });
     h2.step();
     settle(&mut h2);
-    let (a, b) = (h.state().document().unwrap(), h2.state().document().unwrap());
+    let (a, b) = (
+        h.state().document().unwrap(),
+        h2.state().document().unwrap(),
+    );
     assert_eq!(a, b);
-    assert!(diff(h.state().preview_image().unwrap(), h2.state().preview_image().unwrap()).is_empty());
+    assert!(
+        diff(
+            h.state().preview_image().unwrap(),
+            h2.state().preview_image().unwrap()
+        )
+        .is_empty()
+    );
 }
 
 #[test]
 fn brush_and_eraser_paint_the_region() {
-    let mut h = harness(AppOptions { preset: quick_preset(), ..AppOptions::default() });
+    let mut h = harness(AppOptions {
+        preset: quick_preset(),
+        ..AppOptions::default()
+    });
     open_facade(&mut h);
     click(&mut h, "Clear");
     click(&mut h, "Brush");
     drag(&mut h, (0.2, 0.5), (0.8, 0.5));
-    let painted = h.state().document().unwrap().mask.iter().filter(|&&m| m > 0).count();
+    let painted = h
+        .state()
+        .document()
+        .unwrap()
+        .mask
+        .iter()
+        .filter(|&&m| m > 0)
+        .count();
     assert!(painted > 5_000, "{painted}");
     click(&mut h, "Eraser");
     drag(&mut h, (0.2, 0.5), (0.8, 0.5));
-    let left = h.state().document().unwrap().mask.iter().filter(|&&m| m >= 128).count();
+    let left = h
+        .state()
+        .document()
+        .unwrap()
+        .mask
+        .iter()
+        .filter(|&&m| m >= 128)
+        .count();
     assert!(left < painted / 4, "{painted} -> {left}");
     settle(&mut h);
     // One undo step per stroke.
     click(&mut h, "Undo");
-    assert_eq!(h.state().document().unwrap().mask.iter().filter(|&&m| m > 0).count(), painted);
+    assert_eq!(
+        h.state()
+            .document()
+            .unwrap()
+            .mask
+            .iter()
+            .filter(|&&m| m > 0)
+            .count(),
+        painted
+    );
 }

@@ -136,8 +136,11 @@ fn streaks_hang_below_the_sills() {
 /// Regenerate with `GRIME_REGENERATE=1 cargo test --release --test invariants`.
 #[test]
 fn looks_like_the_reference() {
+    // Rain only: this image pins the streaks' look (moss and dust have their own tests).
     let (scene, mut preset) = facade(128, 96);
     preset.rain.layers = 6;
+    preset.moss.enabled = false;
+    preset.dust.enabled = false;
     let out = composite(&scene, &preset).to_rgb8();
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/reference/facade-128x96-6.png");

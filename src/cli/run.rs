@@ -15,7 +15,8 @@ use super::common::{PresetFlags, progress_bar};
 /// Age one photo and write the result (and optionally its layers and a report).
 ///
 /// The output format follows the extension of -o: .png .jpg .tif .webp give
-/// the flattened image.
+/// the flattened image; .psd (Photoshop) and .ora (OpenRaster: GIMP, Krita)
+/// give a layered document.
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:
   grime run --demo -o aged.png
@@ -37,6 +38,11 @@ pub struct RunArgs {
     /// Pixels outside it are left byte-identical.
     #[arg(long, value_name = "FILE")]
     mask: Option<PathBuf>,
+    /// Normal map of the wall, the photo's size (tangent space, RGB =
+    /// (n + 1) / 2, green = up): dust then takes its view and light angles
+    /// per pixel, and surfaces facing down collect less of it.
+    #[arg(long, value_name = "FILE")]
+    normal_map: Option<PathBuf>,
     #[command(flatten)]
     preset: PresetFlags,
     /// Also write each layer as an RGBA PNG plus manifest.json into DIR.
@@ -74,7 +80,14 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         }
         region = Some(io::load_mask(mask, photo.width(), photo.height())?);
     }
-    let scene = Scene::new(photo, region)?;
+    let mut scene = Scene::new(photo, region)?;
+    if let Some(path) = &args.normal_map {
+        refuse_overwrite(path, &args.output)?;
+        let normals = io::load_photo(path)?.into_image().to_rgb8();
+        scene = scene
+            .with_normals(normals)
+            .with_context(|| format!("{}: normal map", path.display()))?;
+    }
 
     let bar = progress_bar(
         args.quiet,

@@ -230,7 +230,11 @@ pub fn grow(
         coverage,
     };
     progress.update("moss", 1.0);
-    Ok(Moss { layer, colonies, stats })
+    Ok(Moss {
+        layer,
+        colonies,
+        stats,
+    })
 }
 
 /// At most one colony per cell of half a baseline.
@@ -244,7 +248,11 @@ impl Occupancy {
     fn new(width: u32, height: u32, cell: f32) -> Occupancy {
         let cols = (width as f32 / cell).ceil() as usize + 1;
         let rows = (height as f32 / cell).ceil() as usize + 1;
-        Occupancy { cell, cols, taken: vec![false; cols * rows] }
+        Occupancy {
+            cell,
+            cols,
+            taken: vec![false; cols * rows],
+        }
     }
 
     /// Takes the cell of (x, y) if free; the point must be on the photo.
@@ -276,7 +284,9 @@ fn colonise(
     let f_ref = percentile(&local, input.region, 0.99).max(1e-9);
     let vigour = |x: f32, y: f32| (sample(&local, x, y) / f_ref).min(1.0);
     let mut taken = Occupancy::new(region.width(), region.height(), baseline / 2.0);
-    let candidates = (p.seed_rate as f64 * region.area() as f64 / (baseline as f64 * baseline as f64)).round() as u64;
+    let candidates = (p.seed_rate as f64 * region.area() as f64
+        / (baseline as f64 * baseline as f64))
+        .round() as u64;
     let mut colonies: Vec<Colony> = Vec::new();
     let new_colony = |x: f32, y: f32, born: u32, from_neighbour: bool, rng: &mut Rng| {
         let vigour = vigour(x, y);
@@ -305,7 +315,10 @@ fn colonise(
             let (dx, dy) = random::box_muller(&mut rng);
             let d = p.spread_distance * baseline;
             let (x, y) = (colonies[i].x + dx * d, colonies[i].y + dy * d);
-            if region.contains(x, y) && rng.random::<f32>() < vigour(x, y).powi(2) && taken.take(x, y) {
+            if region.contains(x, y)
+                && rng.random::<f32>() < vigour(x, y).powi(2)
+                && taken.take(x, y)
+            {
                 colonies.push(new_colony(x, y, year, true, &mut rng));
             }
         }
@@ -313,7 +326,10 @@ fn colonise(
         let mut rng = random::rng(seed, Stream::Moss, year as u64, CANDIDATES);
         for _ in 0..candidates {
             let (px, py) = region.sample(&mut rng);
-            let (x, y) = (px as f32 + rng.random::<f32>(), py as f32 + rng.random::<f32>());
+            let (x, y) = (
+                px as f32 + rng.random::<f32>(),
+                py as f32 + rng.random::<f32>(),
+            );
             let xi5: f32 = rng.random();
             // Chang eq. (18): moss takes at p iff f(p) >= xi5.
             let fp = sample(f, x, y);
@@ -328,7 +344,12 @@ fn colonise(
 /// D_max for eq. 18: the `percentile` of the positive wall dirt over the
 /// region (1 when the wall is clean).
 pub fn d_max(dirt: &[f32], region: &[bool], percentile: f32) -> f32 {
-    let positive: Vec<f32> = dirt.iter().zip(region).filter(|(d, r)| **r && **d > 0.0).map(|(d, _)| *d).collect();
+    let positive: Vec<f32> = dirt
+        .iter()
+        .zip(region)
+        .filter(|(d, r)| **r && **d > 0.0)
+        .map(|(d, _)| *d)
+        .collect();
     if positive.is_empty() {
         return 1.0;
     }
@@ -365,7 +386,11 @@ fn box_mean(values: &[f32], region: &[bool], w: usize, h: usize, radius: usize) 
         }
         out
     };
-    let masked: Vec<f32> = values.iter().zip(region).map(|(v, r)| if *r { *v } else { 0.0 }).collect();
+    let masked: Vec<f32> = values
+        .iter()
+        .zip(region)
+        .map(|(v, r)| if *r { *v } else { 0.0 })
+        .collect();
     let ones: Vec<f32> = region.iter().map(|r| f32::from(u8::from(*r))).collect();
     let sum = blur(&blur(&masked, true), false);
     let count = blur(&blur(&ones, true), false);
@@ -378,7 +403,12 @@ fn box_mean(values: &[f32], region: &[bool], w: usize, h: usize, radius: usize) 
 
 /// The `q`-quantile of `values` over the region (0 if empty).
 fn percentile(values: &[f32], region: &[bool], q: f32) -> f32 {
-    let v: Vec<f32> = values.iter().zip(region).filter(|(_, r)| **r).map(|(v, _)| *v).collect();
+    let v: Vec<f32> = values
+        .iter()
+        .zip(region)
+        .filter(|(_, r)| **r)
+        .map(|(v, _)| *v)
+        .collect();
     if v.is_empty() {
         return 0.0;
     }
@@ -395,7 +425,13 @@ struct Dot {
 
 /// Chang's point-based fractal: the generator replaces each segment of
 /// `a`-`b`, `iterations` times; returns the vertices.
-fn fractal(a: (f32, f32), b: (f32, f32), iterations: u32, peak: f32, rng: &mut Rng) -> Vec<(f32, f32)> {
+fn fractal(
+    a: (f32, f32),
+    b: (f32, f32),
+    iterations: u32,
+    peak: f32,
+    rng: &mut Rng,
+) -> Vec<(f32, f32)> {
     let mut pts = vec![a, b];
     for _ in 0..iterations {
         let mut next = Vec::with_capacity(pts.len() * 4);
@@ -418,23 +454,38 @@ fn fractal(a: (f32, f32), b: (f32, f32), iterations: u32, peak: f32, rng: &mut R
 fn colony_dots(c: &Colony, index: usize, p: &MossParams, baseline: f32, seed: u64) -> Vec<Dot> {
     let mut rng = random::rng(seed, Stream::Moss, DOTS, index as u64);
     let age = (p.years + 1).saturating_sub(c.born) as f32 * c.vigour;
-    let grown = if p.maturity > 0.0 { (age / p.maturity).min(1.0) } else { 1.0 };
+    let grown = if p.maturity > 0.0 {
+        (age / p.maturity).min(1.0)
+    } else {
+        1.0
+    };
     let arms = 1 + (5.0 * grown).round() as u32;
     let radius = baseline * c.size * (0.35 + 0.65 * grown);
     let base = p.color.rgb().map(f32::from);
     let step = radius / 4f32.powi(p.iterations as i32);
     let mut dots = Vec::new();
     for arm in 0..arms {
-        let angle = c.angle + std::f32::consts::TAU * arm as f32 / arms as f32 + (rng.random::<f32>() - 0.5) * 0.6;
+        let angle = c.angle
+            + std::f32::consts::TAU * arm as f32 / arms as f32
+            + (rng.random::<f32>() - 0.5) * 0.6;
         let len = radius * (0.7 + 0.3 * rng.random::<f32>());
         let end = (c.x + len * angle.cos(), c.y + len * angle.sin());
         // The centre is shared by every arm: draw it once.
         let skip = usize::from(arm > 0);
-        for (x, y) in fractal((c.x, c.y), end, p.iterations, p.peak, &mut rng).into_iter().skip(skip) {
+        for (x, y) in fractal((c.x, c.y), end, p.iterations, p.peak, &mut rng)
+            .into_iter()
+            .skip(skip)
+        {
             let jitter = |rng: &mut Rng| (rng.random::<f32>() - 0.5) * step;
             let (jx, jy) = (jitter(&mut rng), jitter(&mut rng));
-            let color = base.map(|v| (v + (rng.random::<f32>() * 2.0 - 1.0) * p.color_jitter).clamp(0.0, 255.0));
-            dots.push(Dot { x: x + jx, y: y + jy, color });
+            let color = base.map(|v| {
+                (v + (rng.random::<f32>() * 2.0 - 1.0) * p.color_jitter).clamp(0.0, 255.0)
+            });
+            dots.push(Dot {
+                x: x + jx,
+                y: y + jy,
+                color,
+            });
         }
     }
     dots
@@ -442,45 +493,56 @@ fn colony_dots(c: &Colony, index: usize, p: &MossParams, baseline: f32, seed: u6
 
 /// Draws the dots in colony order, row band by row band (each band is
 /// independent, so the result does not depend on scheduling).
-fn render(dots: &[Vec<Dot>], region: &Region, p: &MossParams, baseline: f32, progress: &Progress) -> Result<RgbaImage> {
+fn render(
+    dots: &[Vec<Dot>],
+    region: &Region,
+    p: &MossParams,
+    baseline: f32,
+    progress: &Progress,
+) -> Result<RgbaImage> {
     let (w, h) = (region.width() as usize, region.height() as usize);
     let r = (p.dot_size * baseline).max(0.5);
     // Each colony's vertical extent, to find the bands it touches.
     let spans: Vec<(f32, f32)> = dots
         .iter()
-        .map(|d| d.iter().fold((f32::MAX, f32::MIN), |(a, b), d| (a.min(d.y), b.max(d.y))))
+        .map(|d| {
+            d.iter()
+                .fold((f32::MAX, f32::MIN), |(a, b), d| (a.min(d.y), b.max(d.y)))
+        })
         .collect();
     let mut out = RgbaImage::new(w as u32, h as u32);
-    out.par_chunks_mut(w * 4 * BAND).enumerate().try_for_each(|(band, rows)| {
-        progress.check()?;
-        let y0 = band * BAND;
-        let n_rows = rows.len() / (w * 4);
-        // Premultiplied colour and alpha.
-        let mut acc = vec![[0.0f32; 4]; w * n_rows];
-        let (top, bottom) = (y0 as f32 - r - 1.0, (y0 + n_rows) as f32 + r + 1.0);
-        for (colony, &(lo, hi)) in dots.iter().zip(&spans) {
-            if hi < top || lo > bottom {
-                continue;
-            }
-            for d in colony {
-                splat(d, r, y0, n_rows, w, &mut acc);
-            }
-        }
-        let mut weight = vec![0.0f32; w];
-        for (row_i, row) in rows.chunks_exact_mut(w * 4).enumerate() {
-            region.weights((y0 + row_i) as u32, &mut weight);
-            for (x, px) in row.chunks_exact_mut(4).enumerate() {
-                let [pr, pg, pb, a] = acc[row_i * w + x];
-                if a <= 0.0 || weight[x] == 0.0 {
+    out.par_chunks_mut(w * 4 * BAND)
+        .enumerate()
+        .try_for_each(|(band, rows)| {
+            progress.check()?;
+            let y0 = band * BAND;
+            let n_rows = rows.len() / (w * 4);
+            // Premultiplied colour and alpha.
+            let mut acc = vec![[0.0f32; 4]; w * n_rows];
+            let (top, bottom) = (y0 as f32 - r - 1.0, (y0 + n_rows) as f32 + r + 1.0);
+            for (colony, &(lo, hi)) in dots.iter().zip(&spans) {
+                if hi < top || lo > bottom {
                     continue;
                 }
-                let c = |v: f32| (v / a).round().clamp(0.0, 255.0) as u8;
-                let alpha = (a * weight[x] * 255.0).round().clamp(0.0, 255.0) as u8;
-                px.copy_from_slice(&[c(pr), c(pg), c(pb), alpha]);
+                for d in colony {
+                    splat(d, r, y0, n_rows, w, &mut acc);
+                }
             }
-        }
-        Ok::<(), crate::Error>(())
-    })?;
+            let mut weight = vec![0.0f32; w];
+            for (row_i, row) in rows.chunks_exact_mut(w * 4).enumerate() {
+                region.weights((y0 + row_i) as u32, &mut weight);
+                for (x, px) in row.chunks_exact_mut(4).enumerate() {
+                    let [pr, pg, pb, a] = acc[row_i * w + x];
+                    if a <= 0.0 || weight[x] == 0.0 {
+                        continue;
+                    }
+                    let c = |v: f32| (v / a).round().clamp(0.0, 255.0) as u8;
+                    let alpha = (a * weight[x] * 255.0).round().clamp(0.0, 255.0) as u8;
+                    px.copy_from_slice(&[c(pr), c(pg), c(pb), alpha]);
+                }
+            }
+            Ok::<(), crate::Error>(())
+        })?;
     Ok(out)
 }
 
@@ -498,10 +560,10 @@ fn splat(d: &Dot, r: f32, y0: usize, n_rows: usize, w: usize, acc: &mut [[f32; 4
                 continue;
             }
             let a = &mut acc[(y - y0) * w + x];
-            for k in 0..3 {
-                a[k] = d.color[k] * cov + a[k] * (1.0 - cov);
+            // Premultiplied "over": (c, 1) * cov + acc * (1 - cov).
+            for (v, c) in a.iter_mut().zip([d.color[0], d.color[1], d.color[2], 1.0]) {
+                *v = c * cov + *v * (1.0 - cov);
             }
-            a[3] = cov + a[3] * (1.0 - cov);
         }
     }
 }
@@ -531,7 +593,15 @@ mod tests {
 
     fn flat(w: usize, h: usize) -> (Vec<f32>, Vec<bool>) {
         // A rough wall: luminance alternates every row, so M_y = 0.4.
-        let luma = (0..w * h).map(|i| if (i / w) % 2 == 0 { 100.0 } else { 202.0 }).collect();
+        let luma = (0..w * h)
+            .map(|i| {
+                if (i / w).is_multiple_of(2) {
+                    100.0
+                } else {
+                    202.0
+                }
+            })
+            .collect();
         (luma, vec![true; w * h])
     }
 
@@ -546,9 +616,17 @@ mod tests {
             height: h,
             luma: &luma,
             region: &region,
-            wet: Some(Wet { water: &water, saturation: 0.3, dirt: &dirt, d_max: 4.0 }),
+            wet: Some(Wet {
+                water: &water,
+                saturation: 0.3,
+                dirt: &dirt,
+                d_max: 4.0,
+            }),
         };
-        let p = MossParams { gamma: 1.0, ..MossParams::default() };
+        let p = MossParams {
+            gamma: 1.0,
+            ..MossParams::default()
+        };
         let f = probability(&input, &p);
         // 1/2 (0.5 + 0.5) * 0.4 * 1.0
         assert!((f[0] - 0.2).abs() < 1e-6, "{}", f[0]);
@@ -584,21 +662,33 @@ mod tests {
         let pts = fractal((0.0, 0.0), (27.0, 0.0), 3, 0.4, &mut rng);
         assert_eq!(pts.len(), 65);
         assert_eq!((pts[0], pts[64]), ((0.0, 0.0), (27.0, 0.0)));
-        assert!(pts.iter().any(|p| p.1.abs() > 3.0), "the peaks rise off the baseline");
+        assert!(
+            pts.iter().any(|p| p.1.abs() > 3.0),
+            "the peaks rise off the baseline"
+        );
     }
 
     /// Moss on a wall whose left half is wet and right half dry.
     fn half_wet(p: &MossParams) -> (Moss, Vec<f32>) {
         let (w, h) = (160, 120);
         let (luma, region) = flat(w, h);
-        let water: Vec<f32> = (0..w * h).map(|i| if i % w < w / 2 { 0.3 } else { 0.0 }).collect();
-        let dirt: Vec<f32> = (0..w * h).map(|i| if i % w < w / 2 { 1.0 } else { 0.1 }).collect();
+        let water: Vec<f32> = (0..w * h)
+            .map(|i| if i % w < w / 2 { 0.3 } else { 0.0 })
+            .collect();
+        let dirt: Vec<f32> = (0..w * h)
+            .map(|i| if i % w < w / 2 { 1.0 } else { 0.1 })
+            .collect();
         let input = MossInput {
             width: w,
             height: h,
             luma: &luma,
             region: &region,
-            wet: Some(Wet { water: &water, saturation: 0.3, dirt: &dirt, d_max: 1.0 }),
+            wet: Some(Wet {
+                water: &water,
+                saturation: 0.3,
+                dirt: &dirt,
+                d_max: 1.0,
+            }),
         };
         let grid = Grid::new(w as u32, h as u32, None, 0).unwrap();
         let photo_region = Region::new(w as u32, h as u32, None).unwrap();
@@ -608,16 +698,26 @@ mod tests {
 
     #[test]
     fn moss_grows_where_it_is_wet_and_with_the_years() {
-        let p = MossParams { years: 6, ..MossParams::default() };
+        let p = MossParams {
+            years: 6,
+            ..MossParams::default()
+        };
         let (moss, _) = half_wet(&p);
         let left = moss.colonies.iter().filter(|c| c.x < 80.0).count();
         let right = moss.colonies.len() - left;
         assert!(left > 3 * right.max(1), "wet {left} vs dry {right}");
-        let (older, _) = half_wet(&MossParams { years: 12, ..p.clone() });
+        let (older, _) = half_wet(&MossParams {
+            years: 12,
+            ..p.clone()
+        });
         assert!(older.stats.colonies > moss.stats.colonies);
         assert!(older.stats.coverage > moss.stats.coverage);
         assert!(older.stats.from_neighbours > 0, "colonies seed neighbours");
-        assert_eq!(&older.colonies[..moss.colonies.len()], &moss.colonies[..], "years add colonies");
+        assert_eq!(
+            &older.colonies[..moss.colonies.len()],
+            &moss.colonies[..],
+            "years add colonies"
+        );
         assert_eq!(half_wet(&MossParams { years: 0, ..p }).0.stats.colonies, 0);
     }
 
@@ -625,13 +725,26 @@ mod tests {
     fn dots_stay_inside_the_mask() {
         let (w, h) = (120usize, 90usize);
         let (luma, grid_region) = flat(w, h);
-        let mask = GrayImage::from_fn(w as u32, h as u32, |x, _| image::Luma([if x < 60 { 255 } else { 0 }]));
+        let mask = GrayImage::from_fn(w as u32, h as u32, |x, _| {
+            image::Luma([if x < 60 { 255 } else { 0 }])
+        });
         let grid = Grid::new(w as u32, h as u32, Some(&mask), 0).unwrap();
         assert_eq!(grid.width, 60);
         let luma = &luma[..60 * h];
-        let input = MossInput { width: 60, height: h, luma, region: &grid_region[..60 * h], wet: None };
+        let input = MossInput {
+            width: 60,
+            height: h,
+            luma,
+            region: &grid_region[..60 * h],
+            wet: None,
+        };
         let region = Region::new(w as u32, h as u32, Some(&mask)).unwrap();
-        let p = MossParams { years: 8, humidity: 1.0, seed_rate: 4.0, ..MossParams::default() };
+        let p = MossParams {
+            years: 8,
+            humidity: 1.0,
+            seed_rate: 4.0,
+            ..MossParams::default()
+        };
         let moss = grow(&input, &grid, &region, &p, 2, &Progress::none()).unwrap();
         assert!(moss.stats.colonies > 0);
         for (x, _, px) in moss.layer.enumerate_pixels() {

@@ -54,10 +54,21 @@ impl<'a> Region<'a> {
             if width == 0 || height == 0 {
                 return Err(Error::EmptyRegion);
             }
-            return Ok(Region { width, height, mask, runs: Vec::new(), area: width as u64 * height as u64 });
+            return Ok(Region {
+                width,
+                height,
+                mask,
+                runs: Vec::new(),
+                area: width as u64 * height as u64,
+            });
         };
         if m.dimensions() != (width, height) {
-            return Err(Error::MaskSize { mask_w: m.width(), mask_h: m.height(), img_w: width, img_h: height });
+            return Err(Error::MaskSize {
+                mask_w: m.width(),
+                mask_h: m.height(),
+                img_w: width,
+                img_h: height,
+            });
         }
         let mut runs = Vec::new();
         let mut area = 0u64;
@@ -72,14 +83,24 @@ impl<'a> Region<'a> {
                 while x < row.len() && row[x] >= WALL {
                     x += 1;
                 }
-                runs.push(Run { before: area, x: start as u32, y: y as u32 });
+                runs.push(Run {
+                    before: area,
+                    x: start as u32,
+                    y: y as u32,
+                });
                 area += (x - start) as u64;
             }
         }
         if area == 0 {
             return Err(Error::EmptyRegion);
         }
-        Ok(Region { width, height, mask, runs, area })
+        Ok(Region {
+            width,
+            height,
+            mask,
+            runs,
+            area,
+        })
     }
 
     /// Photo width.
@@ -118,7 +139,16 @@ impl<'a> Region<'a> {
         if !(x >= 0.0 && y >= 0.0 && x < self.width as f32 && y < self.height as f32) {
             return false;
         }
-        self.mask.is_none_or(|m| m.get_pixel(x as u32, y as u32)[0] >= WALL)
+        self.mask
+            .is_none_or(|m| m.get_pixel(x as u32, y as u32)[0] >= WALL)
+    }
+
+    /// Mask values of row `y`; `None` without a mask (every pixel is wall
+    /// with weight 1).
+    pub fn mask_row(&self, y: u32) -> Option<&[u8]> {
+        let w = self.width as usize;
+        self.mask
+            .map(|m| &m.as_raw()[y as usize * w..(y as usize + 1) * w])
     }
 
     /// Mask weights of row `y` (value / 255; all 1 without a mask).
@@ -143,7 +173,13 @@ mod tests {
 
     #[test]
     fn nth_enumerates_wall_pixels_in_order() {
-        let mask = GrayImage::from_fn(7, 5, |x, y| Luma([if (x + 2 * y) % 3 == 0 || x == 6 { 255 } else { 40 }]));
+        let mask = GrayImage::from_fn(7, 5, |x, y| {
+            Luma([if (x + 2 * y) % 3 == 0 || x == 6 {
+                255
+            } else {
+                40
+            }])
+        });
         let r = Region::new(7, 5, Some(&mask)).unwrap();
         let want: Vec<(u32, u32)> = (0..5)
             .flat_map(|y| (0..7).map(move |x| (x, y)))

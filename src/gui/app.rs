@@ -12,7 +12,10 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use egui::{Color32, ColorImage, Key, KeyboardShortcut, Modifiers, RichText, TextureHandle, TextureOptions, Ui};
+use egui::{
+    Color32, ColorImage, Key, KeyboardShortcut, Modifiers, RichText, TextureHandle, TextureOptions,
+    Ui,
+};
 use image::{GrayImage, RgbImage};
 
 use crate::demo;
@@ -172,15 +175,16 @@ impl GrimeApp {
                 }
             })
         };
-        let automation = (options.screenshot.is_some() || options.quit_after_frames.is_some()).then(|| Automation {
-            screenshot: options.screenshot.clone(),
-            after: options.quit_after_frames.unwrap_or(30),
-            frames: 0,
-            started: Instant::now(),
-            requested: false,
-            shot: Arc::default(),
-            outcome: Arc::default(),
-        });
+        let automation = (options.screenshot.is_some() || options.quit_after_frames.is_some())
+            .then(|| Automation {
+                screenshot: options.screenshot.clone(),
+                after: options.quit_after_frames.unwrap_or(30),
+                frames: 0,
+                started: Instant::now(),
+                requested: false,
+                shot: Arc::default(),
+                outcome: Arc::default(),
+            });
         let mut app = GrimeApp {
             ctx: egui::Context::default(),
             repaint_to,
@@ -241,7 +245,9 @@ impl GrimeApp {
 
     /// The proxy photo as an image, for comparisons.
     pub fn proxy_image(&self) -> Option<ColorImage> {
-        self.loaded.as_ref().map(|l| render::to_color_image(l.proxy.photo.image()))
+        self.loaded
+            .as_ref()
+            .map(|l| render::to_color_image(l.proxy.photo.image()))
     }
 
     /// The proxy mask.
@@ -251,7 +257,10 @@ impl GrimeApp {
 
     /// True while a preview or export is computing or pending.
     pub fn is_busy(&self) -> bool {
-        self.preview.running.is_some() || self.preview.dirty || self.export.running.is_some() || !self.queue.is_empty()
+        self.preview.running.is_some()
+            || self.preview.dirty
+            || self.export.running.is_some()
+            || !self.queue.is_empty()
     }
 
     /// The message shown in the status bar.
@@ -275,11 +284,17 @@ impl GrimeApp {
     }
 
     fn info(&mut self, text: impl Into<String>) {
-        self.message = Some(Message { text: text.into(), error: false });
+        self.message = Some(Message {
+            text: text.into(),
+            error: false,
+        });
     }
 
     fn error(&mut self, text: impl Into<String>) {
-        self.message = Some(Message { text: text.into(), error: true });
+        self.message = Some(Message {
+            text: text.into(),
+            error: true,
+        });
     }
 
     /// Draws one frame into `ui` (the whole window).
@@ -333,7 +348,11 @@ impl GrimeApp {
                     self.preview.styled = running.map(|r| (r.preset, r.layers));
                     self.preview.sim_ms = Some(done.elapsed.as_secs_f64() * 1000.0);
                     self.set_preview(Some(p));
-                    if self.message.as_ref().is_some_and(|m| m.error && m.text.starts_with("preview:")) {
+                    if self
+                        .message
+                        .as_ref()
+                        .is_some_and(|m| m.error && m.text.starts_with("preview:"))
+                    {
                         self.message = None;
                     }
                 }
@@ -373,7 +392,13 @@ impl GrimeApp {
         match &p {
             Some(p) => match &mut self.textures.preview {
                 Some(t) => t.set(p.image.clone(), TextureOptions::LINEAR),
-                None => self.textures.preview = Some(self.ctx.load_texture("preview", p.image.clone(), TextureOptions::LINEAR)),
+                None => {
+                    self.textures.preview = Some(self.ctx.load_texture(
+                        "preview",
+                        p.image.clone(),
+                        TextureOptions::LINEAR,
+                    ))
+                }
             },
             None => self.textures.preview = None,
         }
@@ -398,19 +423,44 @@ impl GrimeApp {
         self.preview.dirty = false;
         let p = &self.preview;
         let doc = &l.doc;
-        let only_rain = |c: &Preview| c.stack.layers.iter().all(|l| render::is_rain_layer(&l.name));
+        let only_rain = |c: &Preview| {
+            c.stack
+                .layers
+                .iter()
+                .all(|l| render::is_rain_layer(&l.name))
+        };
         let need_sim = match (&p.running, &p.current) {
-            (Some(r), c) => r.rev != l.rev || render::needs_simulation(&r.preset, &doc.preset, c.as_ref().is_some_and(only_rain)),
+            (Some(r), c) => {
+                r.rev != l.rev
+                    || render::needs_simulation(
+                        &r.preset,
+                        &doc.preset,
+                        c.as_ref().is_some_and(only_rain),
+                    )
+            }
             (None, _) if p.sim_failed => p.sim_rev != l.rev || p.sim_preset != doc.preset,
-            (None, Some(c)) => p.sim_rev != l.rev || render::needs_simulation(&p.sim_preset, &doc.preset, only_rain(c)),
+            (None, Some(c)) => {
+                p.sim_rev != l.rev
+                    || render::needs_simulation(&p.sim_preset, &doc.preset, only_rain(c))
+            }
             (None, None) => true,
         };
-        let styled = p.styled.as_ref().is_some_and(|(sp, sl)| *sp == doc.preset && *sl == doc.layers);
+        let styled = p
+            .styled
+            .as_ref()
+            .is_some_and(|(sp, sl)| *sp == doc.preset && *sl == doc.layers);
         if need_sim {
-            match l.proxy.job(&doc.run_preset(), doc.quad.as_ref(), &doc.layers) {
+            match l
+                .proxy
+                .job(&doc.run_preset(), doc.quad.as_ref(), &doc.layers)
+            {
                 Ok(job) => {
                     self.preview.worker.submit(job);
-                    self.preview.running = Some(Running { rev: l.rev, preset: doc.preset.clone(), layers: doc.layers.clone() });
+                    self.preview.running = Some(Running {
+                        rev: l.rev,
+                        preset: doc.preset.clone(),
+                        layers: doc.layers.clone(),
+                    });
                 }
                 Err(e) => self.error(format!("preview: {e}")),
             }
@@ -427,9 +477,20 @@ impl GrimeApp {
 
     fn global_input(&mut self, ui: &Ui) {
         // Drag and drop: images open, presets load, projects open.
-        let dropped: Vec<PathBuf> = ui.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).filter(|p| !p.as_os_str().is_empty()).collect());
+        let dropped: Vec<PathBuf> = ui.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        });
         for path in dropped {
-            let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).unwrap_or_default();
+            let ext = path
+                .extension()
+                .and_then(|e| e.to_str())
+                .map(str::to_ascii_lowercase)
+                .unwrap_or_default();
             self.queue.push(match ext.as_str() {
                 "toml" => Command::LoadPreset(path),
                 "json" => Command::OpenProject(path),
@@ -442,11 +503,26 @@ impl GrimeApp {
         let redo = KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
         let shortcuts = [
             (redo, Command::Redo),
-            (KeyboardShortcut::new(Modifiers::COMMAND, Key::Y), Command::Redo),
-            (KeyboardShortcut::new(Modifiers::COMMAND, Key::Z), Command::Undo),
-            (KeyboardShortcut::new(Modifiers::COMMAND, Key::O), Command::Prompt(PromptKind::OpenImage)),
-            (KeyboardShortcut::new(Modifiers::COMMAND, Key::S), Command::Prompt(PromptKind::SaveProject)),
-            (KeyboardShortcut::new(Modifiers::COMMAND, Key::E), Command::Prompt(PromptKind::Export)),
+            (
+                KeyboardShortcut::new(Modifiers::COMMAND, Key::Y),
+                Command::Redo,
+            ),
+            (
+                KeyboardShortcut::new(Modifiers::COMMAND, Key::Z),
+                Command::Undo,
+            ),
+            (
+                KeyboardShortcut::new(Modifiers::COMMAND, Key::O),
+                Command::Prompt(PromptKind::OpenImage),
+            ),
+            (
+                KeyboardShortcut::new(Modifiers::COMMAND, Key::S),
+                Command::Prompt(PromptKind::SaveProject),
+            ),
+            (
+                KeyboardShortcut::new(Modifiers::COMMAND, Key::E),
+                Command::Prompt(PromptKind::Export),
+            ),
         ];
         for (sc, cmd) in shortcuts {
             if ui.input_mut(|i| i.consume_shortcut(&sc)) {
@@ -464,7 +540,12 @@ impl GrimeApp {
                 }
             }
             let (bigger, smaller, fit, orig) = ui.input(|i| {
-                (i.key_pressed(Key::CloseBracket), i.key_pressed(Key::OpenBracket), i.key_pressed(Key::F), i.key_pressed(Key::O))
+                (
+                    i.key_pressed(Key::CloseBracket),
+                    i.key_pressed(Key::OpenBracket),
+                    i.key_pressed(Key::F),
+                    i.key_pressed(Key::O),
+                )
             });
             if bigger {
                 self.tools.brush_size = (self.tools.brush_size * 1.25).min(2000.0);
@@ -591,8 +672,17 @@ impl GrimeApp {
     fn recorded(&self, cmd: Command) -> Command {
         let Some(l) = &self.loaded else { return cmd };
         match cmd {
-            Command::SetLines { lines, before: None } => Command::SetLines { lines, before: Some(l.doc.lines.clone()) },
-            Command::SetQuad { quad, before: None } => Command::SetQuad { quad, before: Some(l.doc.quad) },
+            Command::SetLines {
+                lines,
+                before: None,
+            } => Command::SetLines {
+                lines,
+                before: Some(l.doc.lines.clone()),
+            },
+            Command::SetQuad { quad, before: None } => Command::SetQuad {
+                quad,
+                before: Some(l.doc.quad),
+            },
             other => other,
         }
     }
@@ -602,35 +692,54 @@ impl GrimeApp {
         ui.label(RichText::new(t.tool.label()).strong());
         match t.tool {
             Tool::Brush | Tool::Eraser => {
-                ui.add(egui::Slider::new(&mut t.brush_size, 1.0..=1000.0).logarithmic(true).text("Size").suffix(" px"))
-                    .on_hover_text("Brush diameter in photo pixels ([ and ])");
-                ui.add(egui::Slider::new(&mut t.hardness, 0.0..=1.0).text("Hardness")).on_hover_text("1 = hard edge, 0 = soft");
+                ui.add(
+                    egui::Slider::new(&mut t.brush_size, 1.0..=1000.0)
+                        .logarithmic(true)
+                        .text("Size")
+                        .suffix(" px"),
+                )
+                .on_hover_text("Brush diameter in photo pixels ([ and ])");
+                ui.add(egui::Slider::new(&mut t.hardness, 0.0..=1.0).text("Hardness"))
+                    .on_hover_text("1 = hard edge, 0 = soft");
             }
             Tool::Rectangle | Tool::Lasso | Tool::Wand => {
                 ui.radio_value(&mut t.mode, MaskMode::Add, "Add");
                 ui.radio_value(&mut t.mode, MaskMode::Subtract, "Subtract");
                 if t.tool == Tool::Wand {
                     ui.add(egui::Slider::new(&mut t.tolerance, 0.0..=255.0).text("Tolerance"))
-                        .on_hover_text("How far a colour may be from the clicked one, per channel (0-255)");
+                        .on_hover_text(
+                            "How far a colour may be from the clicked one, per channel (0-255)",
+                        );
                 }
             }
             Tool::EditLines => {
                 let selected = self.canvas.selected_line;
-                if ui.add_enabled(selected.is_some(), egui::Button::new("Delete line")).clicked()
+                if ui
+                    .add_enabled(selected.is_some(), egui::Button::new("Delete line"))
+                    .clicked()
                     && let (Some(i), Some(l)) = (selected, &self.loaded)
                 {
                     let mut lines = l.doc.lines.clone();
                     if i < lines.len() {
                         lines.remove(i);
-                        out.push(Command::SetLines { lines, before: Some(l.doc.lines.clone()) });
+                        out.push(Command::SetLines {
+                            lines,
+                            before: Some(l.doc.lines.clone()),
+                        });
                     }
                     self.canvas.selected_line = None;
                 }
             }
             Tool::Quad => {
                 let has = self.loaded.as_ref().is_some_and(|l| l.doc.quad.is_some());
-                if ui.add_enabled(has, egui::Button::new("Remove quad")).clicked() {
-                    out.push(self.recorded(Command::SetQuad { quad: None, before: None }));
+                if ui
+                    .add_enabled(has, egui::Button::new("Remove quad"))
+                    .clicked()
+                {
+                    out.push(self.recorded(Command::SetQuad {
+                        quad: None,
+                        before: None,
+                    }));
                 }
             }
             Tool::Pan | Tool::Line => {}
@@ -641,10 +750,18 @@ impl GrimeApp {
             ui.checkbox(&mut self.show_mask, "Show region");
             for (label, cmd, tip) in [
                 ("Fill", Command::MaskFill, "The whole photo is wall"),
-                ("Clear", Command::MaskClear, "Empty the region (paint it back with Brush, Rectangle, Lasso or Wand)"),
+                (
+                    "Clear",
+                    Command::MaskClear,
+                    "Empty the region (paint it back with Brush, Rectangle, Lasso or Wand)",
+                ),
                 ("Invert", Command::MaskInvert, "Swap wall and not-wall"),
             ] {
-                if ui.add_enabled(has, egui::Button::new(label)).on_hover_text(tip).clicked() {
+                if ui
+                    .add_enabled(has, egui::Button::new(label))
+                    .on_hover_text(tip)
+                    .clicked()
+                {
                     out.push(cmd);
                 }
             }
@@ -666,51 +783,68 @@ impl GrimeApp {
             return;
         };
         let preset = &l.doc.preset;
-        egui::ScrollArea::vertical().auto_shrink([false, false]).show(ui, |ui| {
-            ui.add_space(4.0);
-            ui.heading("Time");
-            panels::time(ui, preset, out);
-            ui.separator();
-            ui.heading("Layers");
-            let rows: Vec<LayerRow> = self.preview.current.as_ref().map_or_else(Vec::new, |p| {
-                p.stack
-                    .layers
-                    .iter()
-                    .map(|layer| LayerRow {
-                        name: layer.name.clone(),
-                        opacity: layer.opacity,
-                        visible: layer.visible,
-                        setting: l.doc.layers.get(&layer.name).copied().unwrap_or_default(),
-                    })
-                    .collect()
-            });
-            panels::layers(ui, &rows, out);
-            ui.separator();
-            ui.horizontal(|ui| {
-                ui.heading("Parameters");
-                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                    if ui.button("Save…").on_hover_text("Save the preset as commented TOML (same as the CLI's --preset)").clicked() {
-                        out.push(Command::Prompt(PromptKind::SavePreset));
-                    }
-                    if ui.button("Load…").on_hover_text("Load a preset TOML").clicked() {
-                        out.push(Command::Prompt(PromptKind::LoadPreset));
-                    }
-                    egui::ComboBox::from_id_salt("builtin")
-                        .selected_text("Preset")
-                        .show_ui(ui, |ui| {
-                            for (name, about) in preset::BUILTIN {
-                                if ui.selectable_label(false, *name).on_hover_text(*about).clicked() {
-                                    out.push(Command::BuiltinPreset(name.to_string()));
+        egui::ScrollArea::vertical()
+            .auto_shrink([false, false])
+            .show(ui, |ui| {
+                ui.add_space(4.0);
+                ui.heading("Time");
+                panels::time(ui, preset, out);
+                ui.separator();
+                ui.heading("Layers");
+                let rows: Vec<LayerRow> =
+                    self.preview.current.as_ref().map_or_else(Vec::new, |p| {
+                        p.stack
+                            .layers
+                            .iter()
+                            .map(|layer| LayerRow {
+                                name: layer.name.clone(),
+                                opacity: layer.opacity,
+                                visible: layer.visible,
+                                setting: l.doc.layers.get(&layer.name).copied().unwrap_or_default(),
+                            })
+                            .collect()
+                    });
+                panels::layers(ui, &rows, out);
+                ui.separator();
+                ui.horizontal(|ui| {
+                    ui.heading("Parameters");
+                    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                        if ui
+                            .button("Save…")
+                            .on_hover_text(
+                                "Save the preset as commented TOML (same as the CLI's --preset)",
+                            )
+                            .clicked()
+                        {
+                            out.push(Command::Prompt(PromptKind::SavePreset));
+                        }
+                        if ui
+                            .button("Load…")
+                            .on_hover_text("Load a preset TOML")
+                            .clicked()
+                        {
+                            out.push(Command::Prompt(PromptKind::LoadPreset));
+                        }
+                        egui::ComboBox::from_id_salt("builtin")
+                            .selected_text("Preset")
+                            .show_ui(ui, |ui| {
+                                for (name, about) in preset::BUILTIN {
+                                    if ui
+                                        .selectable_label(false, *name)
+                                        .on_hover_text(*about)
+                                        .clicked()
+                                    {
+                                        out.push(Command::BuiltinPreset(name.to_string()));
+                                    }
                                 }
-                            }
-                        })
-                        .response
-                        .on_hover_text("Built-in presets");
+                            })
+                            .response
+                            .on_hover_text("Built-in presets");
+                    });
                 });
+                panels::seed(ui, preset, out);
+                panels::parameters(ui, preset, out);
             });
-            panels::seed(ui, preset, out);
-            panels::parameters(ui, preset, out);
-        });
     }
 
     fn status_bar(&mut self, ui: &mut Ui, out: &mut Vec<Command>) {
@@ -718,7 +852,11 @@ impl GrimeApp {
             if self.preview.running.is_some() {
                 let s = self.preview.worker.status();
                 ui.spinner();
-                ui.add(egui::ProgressBar::new(s.fraction).desired_width(160.0).text(format!("preview: {}", s.stage)));
+                ui.add(
+                    egui::ProgressBar::new(s.fraction)
+                        .desired_width(160.0)
+                        .text(format!("preview: {}", s.stage)),
+                );
             } else if let Some(ms) = self.preview.latency_ms.or(self.preview.sim_ms) {
                 ui.weak(format!("preview {ms:.0} ms"));
             }
@@ -726,8 +864,15 @@ impl GrimeApp {
                 let s = self.export.worker.status();
                 ui.separator();
                 ui.spinner();
-                let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-                ui.add(egui::ProgressBar::new(s.fraction).desired_width(200.0).text(format!("export {name}: {}", s.stage)));
+                let name = path
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                ui.add(
+                    egui::ProgressBar::new(s.fraction)
+                        .desired_width(200.0)
+                        .text(format!("export {name}: {}", s.stage)),
+                );
                 if ui.small_button("Cancel export").clicked() {
                     out.push(Command::CancelExport);
                 }
@@ -735,7 +880,11 @@ impl GrimeApp {
             if let Some(m) = &self.message {
                 ui.separator();
                 let text = RichText::new(&m.text);
-                let text = if m.error { text.color(Color32::from_rgb(255, 110, 100)) } else { text };
+                let text = if m.error {
+                    text.color(Color32::from_rgb(255, 110, 100))
+                } else {
+                    text
+                };
                 ui.label(text);
                 if ui.small_button("×").on_hover_text("Dismiss").clicked() {
                     self.message = None;
@@ -762,7 +911,14 @@ impl GrimeApp {
     }
 
     fn canvas_ui(&mut self, ui: &mut Ui, out: &mut Vec<Command>) {
-        let image = if self.show_original { self.textures.original.as_ref() } else { self.textures.preview.as_ref().or(self.textures.original.as_ref()) };
+        let image = if self.show_original {
+            self.textures.original.as_ref()
+        } else {
+            self.textures
+                .preview
+                .as_ref()
+                .or(self.textures.original.as_ref())
+        };
         let overlay_alpha = match (self.show_mask, self.tools.tool.edits_mask()) {
             (false, _) => 0.0,
             (true, true) => 0.55,
@@ -782,7 +938,9 @@ impl GrimeApp {
     }
 
     fn prompt_ui(&mut self, ui: &mut Ui, out: &mut Vec<Command>) {
-        let Some(prompt) = &mut self.prompt else { return };
+        let Some(prompt) = &mut self.prompt else {
+            return;
+        };
         let kind = prompt.kind;
         let mut close = false;
         let mut chosen: Option<PathBuf> = None;
@@ -795,23 +953,42 @@ impl GrimeApp {
             ui.horizontal(|ui| {
                 let label = ui.label("Path");
                 let r = ui
-                    .add(egui::TextEdit::singleline(&mut prompt.text).desired_width(360.0).hint_text("/path/to/file"))
+                    .add(
+                        egui::TextEdit::singleline(&mut prompt.text)
+                            .desired_width(360.0)
+                            .hint_text("/path/to/file"),
+                    )
                     .labelled_by(label.id);
                 if prompt.focus {
                     r.request_focus();
                     prompt.focus = false;
                 }
-                if r.lost_focus() && ui.input(|i| i.key_pressed(Key::Enter)) && !prompt.text.trim().is_empty() {
+                if r.lost_focus()
+                    && ui.input(|i| i.key_pressed(Key::Enter))
+                    && !prompt.text.trim().is_empty()
+                {
                     chosen = Some(PathBuf::from(prompt.text.trim()));
                 }
-                if ui.button("Browse…").on_hover_text("The system file dialog (needs xdg-desktop-portal)").clicked() {
-                    let dialog = rfd::FileDialog::new().set_title(kind.title()).add_filter(name, exts);
+                if ui
+                    .button("Browse…")
+                    .on_hover_text("The system file dialog (needs xdg-desktop-portal)")
+                    .clicked()
+                {
+                    let dialog = rfd::FileDialog::new()
+                        .set_title(kind.title())
+                        .add_filter(name, exts);
                     let current = PathBuf::from(prompt.text.trim());
                     let dialog = match (current.parent(), current.file_name()) {
-                        (Some(dir), Some(file)) if dir.is_dir() => dialog.set_directory(dir).set_file_name(file.to_string_lossy()),
+                        (Some(dir), Some(file)) if dir.is_dir() => dialog
+                            .set_directory(dir)
+                            .set_file_name(file.to_string_lossy()),
                         _ => dialog,
                     };
-                    let picked = if kind.saves() { dialog.save_file() } else { dialog.pick_file() };
+                    let picked = if kind.saves() {
+                        dialog.save_file()
+                    } else {
+                        dialog.pick_file()
+                    };
                     match picked {
                         Some(p) => prompt.text = p.display().to_string(),
                         None => browse_failed = true,
@@ -820,7 +997,10 @@ impl GrimeApp {
             });
             ui.add_space(6.0);
             ui.horizontal(|ui| {
-                let ok = ui.add_enabled(!prompt.text.trim().is_empty(), egui::Button::new(kind.action()));
+                let ok = ui.add_enabled(
+                    !prompt.text.trim().is_empty(),
+                    egui::Button::new(kind.action()),
+                );
                 if ok.clicked() {
                     chosen = Some(PathBuf::from(prompt.text.trim()));
                 }
@@ -830,7 +1010,9 @@ impl GrimeApp {
             });
         });
         if browse_failed {
-            self.info("No file chosen. If no dialog appeared (no xdg-desktop-portal), type the path.");
+            self.info(
+                "No file chosen. If no dialog appeared (no xdg-desktop-portal), type the path.",
+            );
         }
         if let Some(p) = chosen {
             out.push(kind.command(p));
@@ -845,10 +1027,13 @@ impl GrimeApp {
     /// ready, then close.
     fn automate(&mut self, ctx: &egui::Context) {
         let busy = self.is_busy();
-        let Some(a) = &mut self.automation else { return };
+        let Some(a) = &mut self.automation else {
+            return;
+        };
         a.frames += 1;
         ctx.request_repaint_after(Duration::from_millis(16));
-        let ready = (a.frames >= a.after && !busy) || a.started.elapsed() > Duration::from_secs(100);
+        let ready =
+            (a.frames >= a.after && !busy) || a.started.elapsed() > Duration::from_secs(100);
         match &a.screenshot {
             Some(path) => {
                 if ready && !a.requested {
@@ -882,9 +1067,20 @@ impl GrimeApp {
     fn open(&mut self, doc: Document, photo: Photo) {
         let photo = Arc::new(photo);
         let proxy = Proxy::new(&photo, &doc.mask, self.proxy_pixels);
-        self.textures.original = Some(self.ctx.load_texture("original", render::to_color_image(proxy.photo.image()), TextureOptions::LINEAR));
-        let overlay = overlay_image(&proxy.mask, PixelRect::full(proxy.mask.width(), proxy.mask.height()));
-        self.textures.overlay = Some(self.ctx.load_texture("overlay", overlay, TextureOptions::LINEAR));
+        self.textures.original = Some(self.ctx.load_texture(
+            "original",
+            render::to_color_image(proxy.photo.image()),
+            TextureOptions::LINEAR,
+        ));
+        let overlay = overlay_image(
+            &proxy.mask,
+            PixelRect::full(proxy.mask.width(), proxy.mask.height()),
+        );
+        self.textures.overlay = Some(self.ctx.load_texture(
+            "overlay",
+            overlay,
+            TextureOptions::LINEAR,
+        ));
         self.textures.preview = None;
         self.preview.current = None;
         self.preview.styled = None;
@@ -894,8 +1090,20 @@ impl GrimeApp {
         self.preview.dirty = true;
         self.preview.changed_at = Some(Instant::now());
         let rev = self.loaded.as_ref().map_or(1, |l| l.rev + 1);
-        self.info(format!("Opened {} ({}×{})", doc.source.display_name(), photo.width(), photo.height()));
-        self.loaded = Some(Loaded { doc, photo, proxy, rgb: None, rev, stroke_before: None });
+        self.info(format!(
+            "Opened {} ({}×{})",
+            doc.source.display_name(),
+            photo.width(),
+            photo.height()
+        ));
+        self.loaded = Some(Loaded {
+            doc,
+            photo,
+            proxy,
+            rgb: None,
+            rev,
+            stroke_before: None,
+        });
         self.history.clear();
         self.canvas = Canvas::default();
     }
@@ -907,7 +1115,11 @@ impl GrimeApp {
         if let Some(r) = l.proxy.update_mask(&l.doc.mask, rect)
             && let Some(tex) = &mut self.textures.overlay
         {
-            tex.set_partial([r.x0 as usize, r.y0 as usize], overlay_image(&l.proxy.mask, r), TextureOptions::LINEAR);
+            tex.set_partial(
+                [r.x0 as usize, r.y0 as usize],
+                overlay_image(&l.proxy.mask, r),
+                TextureOptions::LINEAR,
+            );
         }
     }
 
@@ -942,17 +1154,29 @@ impl GrimeApp {
         match cmd {
             Command::Prompt(kind) => {
                 let text = self.suggest_path(kind);
-                self.prompt = Some(Prompt { kind, text, focus: true });
+                self.prompt = Some(Prompt {
+                    kind,
+                    text,
+                    focus: true,
+                });
             }
             Command::OpenImage(path) => {
-                if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
+                if path
+                    .extension()
+                    .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+                {
                     return self.apply(Command::OpenProject(path));
                 }
                 match io::load_photo(&path) {
                     Ok(photo) => {
                         let mut preset = self.current_preset();
                         preset.rain.source_lines.clear();
-                        let doc = Document::new(ImageSource::File(path), photo.width(), photo.height(), preset);
+                        let doc = Document::new(
+                            ImageSource::File(path),
+                            photo.width(),
+                            photo.height(),
+                            preset,
+                        );
                         self.open(doc, photo);
                     }
                     Err(e) => self.error(format!("cannot open image: {e}")),
@@ -962,7 +1186,12 @@ impl GrimeApp {
                 Ok(d) => {
                     let mut preset = self.current_preset();
                     preset.rain.source_lines.clear();
-                    let mut doc = Document::new(ImageSource::Demo(name), d.photo.width(), d.photo.height(), preset);
+                    let mut doc = Document::new(
+                        ImageSource::Demo(name),
+                        d.photo.width(),
+                        d.photo.height(),
+                        preset,
+                    );
                     if let Some(r) = d.region {
                         doc.mask = r;
                     }
@@ -988,7 +1217,9 @@ impl GrimeApp {
             Command::LoadPreset(path) => {
                 let loaded = std::fs::read_to_string(&path)
                     .map_err(|e| crate::Error::io(&path, e).to_string())
-                    .and_then(|t| Preset::from_toml(&t).map_err(|e| format!("{}: {e}", path.display())));
+                    .and_then(|t| {
+                        Preset::from_toml(&t).map_err(|e| format!("{}: {e}", path.display()))
+                    });
                 match loaded {
                     Ok(p) => {
                         self.set_preset(p, "preset file");
@@ -1008,8 +1239,14 @@ impl GrimeApp {
                 Err(e) => self.error(e.to_string()),
             },
             Command::SavePreset(path) => {
-                let text = self.loaded.as_ref().map_or_else(|| self.default_preset.to_commented_toml(), |l| l.doc.preset_toml());
-                let r = io::write_atomic(&path, |out| std::io::Write::write_all(out, text.as_bytes()).map_err(|e| crate::Error::io(&path, e)));
+                let text = self.loaded.as_ref().map_or_else(
+                    || self.default_preset.to_commented_toml(),
+                    |l| l.doc.preset_toml(),
+                );
+                let r = io::write_atomic(&path, |out| {
+                    std::io::Write::write_all(out, text.as_bytes())
+                        .map_err(|e| crate::Error::io(&path, e))
+                });
                 match r {
                     Ok(()) => self.info(format!("Saved preset {}", path.display())),
                     Err(e) => self.error(format!("cannot save preset: {e}")),
@@ -1052,7 +1289,10 @@ impl GrimeApp {
                 self.mask_op(|mask, l| match &shape {
                     MaskShape::Rect(a, b) => tools::fill_rect(mask, *a, *b, mode),
                     MaskShape::Polygon(pts) => tools::fill_polygon(mask, pts, mode),
-                    MaskShape::Wand(p) => l.rgb.as_ref().and_then(|rgb| tools::wand(rgb, mask, *p, tol, mode)),
+                    MaskShape::Wand(p) => l
+                        .rgb
+                        .as_ref()
+                        .and_then(|rgb| tools::wand(rgb, mask, *p, tol, mode)),
                 });
             }
             Command::MaskInvert => self.mask_op(|m, _| Some(tools::invert(m))),
@@ -1061,10 +1301,20 @@ impl GrimeApp {
             Command::SetLines { lines, before } => {
                 let Some(l) = &mut self.loaded else { return };
                 if let Some(before) = before {
-                    self.history.push(Edit::Lines { before, after: lines.clone() }, false);
+                    self.history.push(
+                        Edit::Lines {
+                            before,
+                            after: lines.clone(),
+                        },
+                        false,
+                    );
                 }
                 l.doc.lines = lines;
-                if self.canvas.selected_line.is_some_and(|i| i >= l.doc.lines.len()) {
+                if self
+                    .canvas
+                    .selected_line
+                    .is_some_and(|i| i >= l.doc.lines.len())
+                {
                     self.canvas.selected_line = None;
                 }
                 self.bump();
@@ -1078,9 +1328,14 @@ impl GrimeApp {
                 for line in found {
                     let line: Vec<[f32; 2]> = line.iter().map(|p| [p[0] / sx, p[1] / sy]).collect();
                     let dup = lines.iter().any(|o| {
-                        let (y, oy) = (line[0][1], o.iter().map(|p| p[1]).sum::<f32>() / o.len().max(1) as f32);
+                        let (y, oy) = (
+                            line[0][1],
+                            o.iter().map(|p| p[1]).sum::<f32>() / o.len().max(1) as f32,
+                        );
                         let (x0, x1) = (line[0][0], line[line.len() - 1][0]);
-                        let (ox0, ox1) = o.iter().fold((f32::MAX, f32::MIN), |(a, b), p| (a.min(p[0]), b.max(p[0])));
+                        let (ox0, ox1) = o
+                            .iter()
+                            .fold((f32::MAX, f32::MIN), |(a, b), p| (a.min(p[0]), b.max(p[0])));
                         (y - oy).abs() < 6.0 / sy && x0 < ox1 && x1 > ox0
                     });
                     if !dup {
@@ -1090,10 +1345,16 @@ impl GrimeApp {
                 }
                 if added > 0 {
                     let before = l.doc.lines.clone();
-                    self.apply(Command::SetLines { lines, before: Some(before) });
+                    self.apply(Command::SetLines {
+                        lines,
+                        before: Some(before),
+                    });
                     self.tools.tool = Tool::EditLines;
                 }
-                self.info(format!("Detect ledges: {added} new source line{}", if added == 1 { "" } else { "s" }));
+                self.info(format!(
+                    "Detect ledges: {added} new source line{}",
+                    if added == 1 { "" } else { "s" }
+                ));
             }
             Command::SetQuad { quad, before } => {
                 if let Some(q) = &quad
@@ -1103,7 +1364,13 @@ impl GrimeApp {
                 }
                 let Some(l) = &mut self.loaded else { return };
                 if let Some(before) = before {
-                    self.history.push(Edit::Quad { before, after: quad }, false);
+                    self.history.push(
+                        Edit::Quad {
+                            before,
+                            after: quad,
+                        },
+                        false,
+                    );
                 }
                 l.doc.quad = quad;
                 self.bump();
@@ -1116,7 +1383,14 @@ impl GrimeApp {
                         p.rain.source_lines.clear();
                         if p != l.doc.preset {
                             let before = std::mem::replace(&mut l.doc.preset, p.clone());
-                            self.history.push(Edit::Preset { key: path, before: Box::new(before), after: Box::new(p) }, merge);
+                            self.history.push(
+                                Edit::Preset {
+                                    key: path,
+                                    before: Box::new(before),
+                                    after: Box::new(p),
+                                },
+                                merge,
+                            );
                             self.preview.dirty = true;
                             self.preview.changed_at.get_or_insert_with(Instant::now);
                         }
@@ -1137,7 +1411,11 @@ impl GrimeApp {
             }
             Command::Undo | Command::Redo => {
                 let Some(l) = &mut self.loaded else { return };
-                let touched = if cmd == Command::Undo { self.history.undo(&mut l.doc) } else { self.history.redo(&mut l.doc) };
+                let touched = if cmd == Command::Undo {
+                    self.history.undo(&mut l.doc)
+                } else {
+                    self.history.redo(&mut l.doc)
+                };
                 self.canvas.reset_gesture();
                 match touched {
                     Some(Touched::Mask(r)) => {
@@ -1149,7 +1427,11 @@ impl GrimeApp {
                         self.preview.dirty = true;
                         self.preview.changed_at.get_or_insert_with(Instant::now);
                     }
-                    None => self.info(if cmd == Command::Undo { "Nothing to undo" } else { "Nothing to redo" }),
+                    None => self.info(if cmd == Command::Undo {
+                        "Nothing to undo"
+                    } else {
+                        "Nothing to redo"
+                    }),
                 }
             }
             Command::SetTool(t) => {
@@ -1162,7 +1444,9 @@ impl GrimeApp {
     }
 
     fn current_preset(&self) -> Preset {
-        self.loaded.as_ref().map_or_else(|| self.default_preset.clone(), |l| l.doc.preset.clone())
+        self.loaded
+            .as_ref()
+            .map_or_else(|| self.default_preset.clone(), |l| l.doc.preset.clone())
     }
 
     /// Replaces the preset as one undo step; its source lines (if any)
@@ -1174,27 +1458,46 @@ impl GrimeApp {
             return;
         };
         let before = std::mem::replace(&mut l.doc.preset, p.clone());
-        self.history.push(Edit::Preset { key: key.into(), before: Box::new(before), after: Box::new(p) }, false);
+        self.history.push(
+            Edit::Preset {
+                key: key.into(),
+                before: Box::new(before),
+                after: Box::new(p),
+            },
+            false,
+        );
         self.preview.dirty = true;
         self.preview.changed_at.get_or_insert_with(Instant::now);
         if !lines.is_empty() {
             let before = l.doc.lines.clone();
-            self.apply(Command::SetLines { lines, before: Some(before) });
+            self.apply(Command::SetLines {
+                lines,
+                before: Some(before),
+            });
         }
     }
 
     fn start_export(&mut self, path: PathBuf) {
-        let Some(l) = &self.loaded else { return self.error("nothing to export: open an image first") };
+        let Some(l) = &self.loaded else {
+            return self.error("nothing to export: open an image first");
+        };
         if let Err(e) = io::Format::from_path(&path) {
             return self.error(format!("cannot export: {e}"));
         }
         if let ImageSource::File(src) = &l.doc.source
             && io::same_file(src, &path)
         {
-            return self.error(format!("cannot export: {} is the input photo; choose another file", path.display()));
+            return self.error(format!(
+                "cannot export: {} is the input photo; choose another file",
+                path.display()
+            ));
         }
         let job = ExportJob {
-            scene: Scene { photo: Arc::clone(&l.photo), region: Some(Arc::new(l.doc.mask.clone())), normals: None },
+            scene: Scene {
+                photo: Arc::clone(&l.photo),
+                region: Some(Arc::new(l.doc.mask.clone())),
+                normals: None,
+            },
             quad: l.doc.quad,
             preset: l.doc.run_preset(),
             layers: l.doc.layers.clone(),
@@ -1209,13 +1512,16 @@ impl GrimeApp {
         let (dir, stem) = match self.loaded.as_ref().map(|l| &l.doc.source) {
             Some(ImageSource::File(p)) => (
                 p.parent().map(Path::to_path_buf).unwrap_or_default(),
-                p.file_stem().map_or_else(|| "facade".into(), |s| s.to_string_lossy().into_owned()),
+                p.file_stem()
+                    .map_or_else(|| "facade".into(), |s| s.to_string_lossy().into_owned()),
             ),
             Some(ImageSource::Demo(n)) => (std::env::current_dir().unwrap_or_default(), n.clone()),
             None => (std::env::current_dir().unwrap_or_default(), "facade".into()),
         };
         let file = match kind {
-            PromptKind::OpenImage | PromptKind::OpenProject | PromptKind::LoadPreset => return String::new(),
+            PromptKind::OpenImage | PromptKind::OpenProject | PromptKind::LoadPreset => {
+                return String::new();
+            }
             PromptKind::SaveProject => format!("{stem}.grime.json"),
             PromptKind::SavePreset => format!("{stem}.toml"),
             PromptKind::Export => format!("{stem}-aged.png"),
@@ -1230,7 +1536,12 @@ fn overlay_image(mask: &GrayImage, r: PixelRect) -> ColorImage {
     for y in r.y0..r.y1 {
         for x in r.x0..r.x1 {
             let m = mask.get_pixel(x, y)[0] as f32 / 255.0;
-            pixels.push(Color32::from_rgba_unmultiplied(40, 170, 255, (m * 150.0) as u8));
+            pixels.push(Color32::from_rgba_unmultiplied(
+                40,
+                170,
+                255,
+                (m * 150.0) as u8,
+            ));
         }
     }
     ColorImage::new([r.width() as usize, r.height() as usize], pixels)
@@ -1243,7 +1554,8 @@ fn save_screenshot(img: &ColorImage, path: &Path) -> Result<(), String> {
         let c = img.pixels[y as usize * w + x as usize];
         image::Rgb([c.r(), c.g(), c.b()])
     });
-    io::save_image(&image::DynamicImage::ImageRgb8(rgb.clone()), None, path).map_err(|e| e.to_string())?;
+    io::save_image(&image::DynamicImage::ImageRgb8(rgb.clone()), None, path)
+        .map_err(|e| e.to_string())?;
     check_not_blank(&rgb).map_err(|e| format!("{}: {e}", path.display()))
 }
 
@@ -1260,7 +1572,10 @@ pub fn check_not_blank(img: &RgbImage) -> Result<(), String> {
         }
     }
     if img.width() == 0 || hi.saturating_sub(lo) < 16 || colors.len() < 32 {
-        return Err(format!("the screenshot is blank ({} colours, luma {lo}..{hi})", colors.len()));
+        return Err(format!(
+            "the screenshot is blank ({} colours, luma {lo}..{hi})",
+            colors.len()
+        ));
     }
     Ok(())
 }
@@ -1273,5 +1588,18 @@ impl eframe::App for GrimeApp {
     fn persist_egui_memory(&self) -> bool {
         // Scripted runs start from the same layout every time.
         self.automation.is_none()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blank_screenshots_are_refused() {
+        let blank = RgbImage::from_pixel(64, 48, image::Rgb([30, 30, 30]));
+        assert!(check_not_blank(&blank).unwrap_err().contains("blank"));
+        let d = demo::facade(64, 48);
+        assert!(check_not_blank(&d.photo.image().to_rgb8()).is_ok());
     }
 }

@@ -4,7 +4,10 @@
 
 use eframe::egui;
 
-use egui::{Color32, Key, PointerButton, Pos2, Rect, Sense, Shape, Stroke, TextureHandle, Ui, Vec2, pos2, vec2};
+use egui::{
+    Color32, Key, PointerButton, Pos2, Rect, Sense, Shape, Stroke, TextureHandle, Ui, Vec2, pos2,
+    vec2,
+};
 
 use crate::perspective::{self, Quad, Rectifier};
 use crate::preset::SourceLine;
@@ -26,7 +29,11 @@ pub struct View {
 
 impl Default for View {
     fn default() -> Self {
-        View { zoom: 1.0, offset: Vec2::ZERO, needs_fit: true }
+        View {
+            zoom: 1.0,
+            offset: Vec2::ZERO,
+            needs_fit: true,
+        }
     }
 }
 
@@ -175,7 +182,13 @@ impl Canvas {
 
         // Zoom (wheel, pinch, Ctrl+wheel) about the pointer.
         if resp.hovered() {
-            let (scroll, zoom, pointer) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta(), i.pointer.hover_pos()));
+            let (scroll, zoom, pointer) = ui.input(|i| {
+                (
+                    i.smooth_scroll_delta.y,
+                    i.zoom_delta(),
+                    i.pointer.hover_pos(),
+                )
+            });
             let factor = zoom * (scroll * 0.002).exp();
             if let Some(p) = pointer
                 && (factor - 1.0).abs() > 1e-4
@@ -194,7 +207,10 @@ impl Canvas {
             self.view.offset += resp.drag_delta();
         }
 
-        let img_rect = Rect::from_min_size(view.to_screen(rect, [0.0, 0.0]), vec2(size[0], size[1]) * view.zoom);
+        let img_rect = Rect::from_min_size(
+            view.to_screen(rect, [0.0, 0.0]),
+            vec2(size[0], size[1]) * view.zoom,
+        );
         let uv = Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0));
         painter.rect_filled(img_rect.expand(1.0), 0.0, Color32::from_gray(8));
         if let Some(tex) = input.image {
@@ -203,12 +219,23 @@ impl Canvas {
         if let Some(tex) = input.overlay
             && input.overlay_alpha > 0.0
         {
-            painter.image(tex.id(), img_rect, uv, Color32::from_white_alpha((input.overlay_alpha * 255.0) as u8));
+            painter.image(
+                tex.id(),
+                img_rect,
+                uv,
+                Color32::from_white_alpha((input.overlay_alpha * 255.0) as u8),
+            );
         }
 
         let pointer = resp.hover_pos().or_else(|| resp.interact_pointer_pos());
         self.hover = pointer.map(|p| view.to_photo(rect, p));
-        let (pressed, down, shift) = ui.input(|i| (i.pointer.primary_pressed(), i.pointer.primary_down(), i.modifiers.shift));
+        let (pressed, down, shift) = ui.input(|i| {
+            (
+                i.pointer.primary_pressed(),
+                i.pointer.primary_down(),
+                i.modifiers.shift,
+            )
+        });
         let pressed_here = pressed && resp.hovered() && !pan_primary;
         let keys = !ui.ctx().egui_wants_keyboard_input();
         let key = |k: Key| keys && ui.input(|i| i.key_pressed(k));
@@ -232,8 +259,15 @@ impl Canvas {
         };
         for (i, line) in shown_lines.iter().enumerate() {
             let pts: Vec<Pos2> = line.iter().map(|p| to_screen(*p)).collect();
-            let color = if self.selected_line == Some(i) { SELECTED_COLOR } else { LINE_COLOR };
-            painter.add(Shape::line(pts.clone(), Stroke::new(4.0, Color32::from_black_alpha(140))));
+            let color = if self.selected_line == Some(i) {
+                SELECTED_COLOR
+            } else {
+                LINE_COLOR
+            };
+            painter.add(Shape::line(
+                pts.clone(),
+                Stroke::new(4.0, Color32::from_black_alpha(140)),
+            ));
             painter.add(Shape::line(pts.clone(), Stroke::new(2.0, color)));
             // Drips: short ticks below the line show where water leaves it.
             for pair in pts.windows(2) {
@@ -241,7 +275,10 @@ impl Canvas {
                 let n = (len / 28.0).floor() as usize;
                 for k in 1..=n {
                     let q = pair[0] + (pair[1] - pair[0]) * (k as f32 / (n + 1) as f32);
-                    painter.line_segment([q, q + vec2(0.0, 7.0)], Stroke::new(1.5, color.gamma_multiply(0.8)));
+                    painter.line_segment(
+                        [q, q + vec2(0.0, 7.0)],
+                        Stroke::new(1.5, color.gamma_multiply(0.8)),
+                    );
                 }
             }
             if tool == Tool::EditLines || self.selected_line == Some(i) {
@@ -261,17 +298,31 @@ impl Canvas {
             Gesture::Rect { start } => {
                 if let Some(p) = p_photo {
                     let r = Rect::from_two_pos(to_screen(*start), to_screen(p));
-                    painter.rect_stroke(r, 0.0, Stroke::new(1.5, SHAPE_COLOR), egui::StrokeKind::Middle);
+                    painter.rect_stroke(
+                        r,
+                        0.0,
+                        Stroke::new(1.5, SHAPE_COLOR),
+                        egui::StrokeKind::Middle,
+                    );
                 }
             }
             Gesture::NewQuad { start } => {
                 if let Some(p) = p_photo {
                     let r = Rect::from_two_pos(to_screen(*start), to_screen(p));
-                    painter.rect_stroke(r, 0.0, Stroke::new(1.5, QUAD_COLOR), egui::StrokeKind::Middle);
+                    painter.rect_stroke(
+                        r,
+                        0.0,
+                        Stroke::new(1.5, QUAD_COLOR),
+                        egui::StrokeKind::Middle,
+                    );
                 }
             }
             Gesture::Lasso { pts, .. } | Gesture::Line { pts } => {
-                let color = if matches!(self.gesture, Gesture::Line { .. }) { LINE_COLOR } else { SHAPE_COLOR };
+                let color = if matches!(self.gesture, Gesture::Line { .. }) {
+                    LINE_COLOR
+                } else {
+                    SHAPE_COLOR
+                };
                 let mut screen: Vec<Pos2> = pts.iter().map(|p| to_screen(*p)).collect();
                 if let Some(p) = pointer {
                     screen.push(p);
@@ -291,11 +342,19 @@ impl Canvas {
             painter.circle_stroke(p, r, Stroke::new(1.5, Color32::from_black_alpha(160)));
             painter.circle_stroke(p, r, Stroke::new(1.0, Color32::WHITE));
             if input.tools.hardness < 1.0 {
-                painter.circle_stroke(p, r * input.tools.hardness, Stroke::new(1.0, Color32::from_white_alpha(90)));
+                painter.circle_stroke(
+                    p,
+                    r * input.tools.hardness,
+                    Stroke::new(1.0, Color32::from_white_alpha(90)),
+                );
             }
         }
         let cursor = if pan_primary {
-            if resp.dragged() { egui::CursorIcon::Grabbing } else { egui::CursorIcon::Grab }
+            if resp.dragged() {
+                egui::CursorIcon::Grabbing
+            } else {
+                egui::CursorIcon::Grab
+            }
         } else if matches!(tool, Tool::Brush | Tool::Eraser) {
             egui::CursorIcon::None
         } else {
@@ -311,52 +370,93 @@ impl Canvas {
     fn finish_drag(&mut self, out: &mut Vec<Command>) {
         match std::mem::take(&mut self.gesture) {
             Gesture::Stroke { .. } => out.push(Command::StrokeEnd),
-            Gesture::Vertex { before, current, .. } | Gesture::MoveLine { before, current, .. } => {
-                if before != current {
-                    out.push(Command::SetLines { lines: current, before: Some(before) });
-                }
+            Gesture::Vertex {
+                before, current, ..
             }
-            Gesture::Corner { before, current, .. } => {
-                if before != Some(current) {
-                    out.push(Command::SetQuad { quad: Some(current), before: Some(before) });
-                }
+            | Gesture::MoveLine {
+                before, current, ..
+            } if before != current => {
+                out.push(Command::SetLines {
+                    lines: current,
+                    before: Some(before),
+                });
             }
-            keep @ (Gesture::Lasso { freehand: false, .. } | Gesture::Line { .. }) => self.gesture = keep,
+            Gesture::Corner {
+                before, current, ..
+            } if before != Some(current) => {
+                out.push(Command::SetQuad {
+                    quad: Some(current),
+                    before: Some(before),
+                });
+            }
+            keep @ (Gesture::Lasso {
+                freehand: false, ..
+            }
+            | Gesture::Line { .. }) => self.gesture = keep,
             _ => {}
         }
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn gesture_input(&mut self, resp: &egui::Response, rect: Rect, p: [f32; 2], pressed: bool, down: bool, shift: bool, input: &CanvasInput, out: &mut Vec<Command>) {
+    fn gesture_input(
+        &mut self,
+        resp: &egui::Response,
+        rect: Rect,
+        p: [f32; 2],
+        pressed: bool,
+        down: bool,
+        shift: bool,
+        input: &CanvasInput,
+        out: &mut Vec<Command>,
+    ) {
         let view = self.view;
         let settings = input.tools;
-        let near = |a: [f32; 2], b: [f32; 2]| view.to_screen(rect, a).distance(view.to_screen(rect, b)) < PICK;
+        let near = |a: [f32; 2], b: [f32; 2]| {
+            view.to_screen(rect, a).distance(view.to_screen(rect, b)) < PICK
+        };
         match (settings.tool, &mut self.gesture) {
             (Tool::Brush | Tool::Eraser, Gesture::Idle) if pressed => {
                 let erase = settings.tool == Tool::Eraser;
                 out.push(Command::StrokeBegin);
-                out.push(Command::StrokeTo { from: p, to: p, erase });
+                out.push(Command::StrokeTo {
+                    from: p,
+                    to: p,
+                    erase,
+                });
                 self.gesture = Gesture::Stroke { last: p };
             }
-            (Tool::Brush | Tool::Eraser, Gesture::Stroke { last }) if down => {
-                if *last != p {
-                    out.push(Command::StrokeTo { from: *last, to: p, erase: settings.tool == Tool::Eraser });
-                    *last = p;
-                }
+            (Tool::Brush | Tool::Eraser, Gesture::Stroke { last }) if down && *last != p => {
+                out.push(Command::StrokeTo {
+                    from: *last,
+                    to: p,
+                    erase: settings.tool == Tool::Eraser,
+                });
+                *last = p;
             }
-            (Tool::Rectangle, Gesture::Idle) if pressed => self.gesture = Gesture::Rect { start: p },
+            (Tool::Brush | Tool::Eraser, Gesture::Stroke { .. }) if down => {}
+            (Tool::Rectangle, Gesture::Idle) if pressed => {
+                self.gesture = Gesture::Rect { start: p }
+            }
             (Tool::Rectangle, Gesture::Rect { start }) if !down => {
                 let start = *start;
                 self.gesture = Gesture::Idle;
                 out.push(Command::MaskShape(MaskShape::Rect(start, p), settings.mode));
             }
-            (Tool::Lasso, Gesture::Idle) if pressed => self.gesture = Gesture::Lasso { pts: vec![p], freehand: false },
+            (Tool::Lasso, Gesture::Idle) if pressed => {
+                self.gesture = Gesture::Lasso {
+                    pts: vec![p],
+                    freehand: false,
+                }
+            }
             (Tool::Lasso, Gesture::Lasso { pts, freehand }) => {
                 if down && resp.dragged_by(PointerButton::Primary) {
                     // Dragging draws freehand; it closes on release.
                     if pts.len() == 1 || *freehand {
                         *freehand = true;
-                        if pts.last().is_none_or(|l| !near(*l, p) || view.to_screen(rect, *l).distance(view.to_screen(rect, p)) > 3.0) {
+                        if pts.last().is_none_or(|l| {
+                            !near(*l, p)
+                                || view.to_screen(rect, *l).distance(view.to_screen(rect, p)) > 3.0
+                        }) {
                             pts.push(p);
                         }
                     }
@@ -394,7 +494,10 @@ impl Canvas {
                     self.gesture = Gesture::Idle;
                     let mut lines = input.lines.to_vec();
                     lines.push(new);
-                    out.push(Command::SetLines { lines, before: Some(input.lines.to_vec()) });
+                    out.push(Command::SetLines {
+                        lines,
+                        before: Some(input.lines.to_vec()),
+                    });
                 }
             }
             (Tool::EditLines, Gesture::Idle) if pressed => {
@@ -403,24 +506,48 @@ impl Canvas {
                 });
                 let screen = |q: [f32; 2]| view.to_screen(rect, q);
                 let segment = input.lines.iter().position(|line| {
-                    line.windows(2).any(|s| dist_to_segment(screen(p), screen(s[0]), screen(s[1])) < PICK)
+                    line.windows(2)
+                        .any(|s| dist_to_segment(screen(p), screen(s[0]), screen(s[1])) < PICK)
                 });
                 if let Some((line, idx)) = vertex {
                     self.selected_line = Some(line);
-                    self.gesture = Gesture::Vertex { line, idx, before: input.lines.to_vec(), current: input.lines.to_vec() };
+                    self.gesture = Gesture::Vertex {
+                        line,
+                        idx,
+                        before: input.lines.to_vec(),
+                        current: input.lines.to_vec(),
+                    };
                 } else if let Some(line) = segment {
                     self.selected_line = Some(line);
-                    self.gesture = Gesture::MoveLine { line, grab: p, before: input.lines.to_vec(), current: input.lines.to_vec() };
+                    self.gesture = Gesture::MoveLine {
+                        line,
+                        grab: p,
+                        before: input.lines.to_vec(),
+                        current: input.lines.to_vec(),
+                    };
                 } else {
                     self.selected_line = None;
                 }
             }
-            (Tool::EditLines, Gesture::Vertex { line, idx, current, .. }) if down => {
+            (
+                Tool::EditLines,
+                Gesture::Vertex {
+                    line, idx, current, ..
+                },
+            ) if down => {
                 if let Some(v) = current.get_mut(*line).and_then(|l| l.get_mut(*idx)) {
                     *v = p;
                 }
             }
-            (Tool::EditLines, Gesture::MoveLine { line, grab, before, current }) if down => {
+            (
+                Tool::EditLines,
+                Gesture::MoveLine {
+                    line,
+                    grab,
+                    before,
+                    current,
+                },
+            ) if down => {
                 let (dx, dy) = (p[0] - grab[0], p[1] - grab[1]);
                 if let (Some(src), Some(dst)) = (before.get(*line), current.get_mut(*line)) {
                     for (d, s) in dst.iter_mut().zip(src) {
@@ -431,7 +558,13 @@ impl Canvas {
             (Tool::Quad, Gesture::Idle) if pressed => {
                 let corner = input.quad.and_then(|q| q.iter().position(|c| near(*c, p)));
                 match (input.quad, corner) {
-                    (Some(q), Some(i)) => self.gesture = Gesture::Corner { i, before: Some(*q), current: *q },
+                    (Some(q), Some(i)) => {
+                        self.gesture = Gesture::Corner {
+                            i,
+                            before: Some(*q),
+                            current: *q,
+                        }
+                    }
                     _ => self.gesture = Gesture::NewQuad { start: p },
                 }
             }
@@ -449,8 +582,14 @@ impl Canvas {
                 let (x0, x1) = (s[0].min(p[0]), s[0].max(p[0]));
                 let (y0, y1) = (s[1].min(p[1]), s[1].max(p[1]));
                 let q = [[x0, y0], [x1, y0], [x1, y1], [x0, y1]];
-                if perspective::validate(&q).is_ok() && (x1 - x0) * view.zoom > 8.0 && (y1 - y0) * view.zoom > 8.0 {
-                    out.push(Command::SetQuad { quad: Some(q), before: Some(input.quad.copied()) });
+                if perspective::validate(&q).is_ok()
+                    && (x1 - x0) * view.zoom > 8.0
+                    && (y1 - y0) * view.zoom > 8.0
+                {
+                    out.push(Command::SetQuad {
+                        quad: Some(q),
+                        before: Some(input.quad.copied()),
+                    });
                 }
             }
             (_, Gesture::Idle) => {}
@@ -459,7 +598,12 @@ impl Canvas {
         }
     }
 
-    fn key_input(&mut self, key: &dyn Fn(Key) -> bool, input: &CanvasInput, out: &mut Vec<Command>) {
+    fn key_input(
+        &mut self,
+        key: &dyn Fn(Key) -> bool,
+        input: &CanvasInput,
+        out: &mut Vec<Command>,
+    ) {
         match &mut self.gesture {
             Gesture::Line { pts } => {
                 if key(Key::Enter) && pts.len() >= 2 {
@@ -467,7 +611,10 @@ impl Canvas {
                     self.gesture = Gesture::Idle;
                     let mut lines = input.lines.to_vec();
                     lines.push(new);
-                    out.push(Command::SetLines { lines, before: Some(input.lines.to_vec()) });
+                    out.push(Command::SetLines {
+                        lines,
+                        before: Some(input.lines.to_vec()),
+                    });
                 } else if key(Key::Backspace) {
                     pts.pop();
                 }
@@ -476,7 +623,10 @@ impl Canvas {
                 if key(Key::Enter) && pts.len() >= 3 {
                     let pts = std::mem::take(pts);
                     self.gesture = Gesture::Idle;
-                    out.push(Command::MaskShape(MaskShape::Polygon(pts), input.tools.mode));
+                    out.push(Command::MaskShape(
+                        MaskShape::Polygon(pts),
+                        input.tools.mode,
+                    ));
                 } else if key(Key::Backspace) {
                     pts.pop();
                 }
@@ -490,7 +640,10 @@ impl Canvas {
                     let mut lines = input.lines.to_vec();
                     lines.remove(i);
                     self.selected_line = None;
-                    out.push(Command::SetLines { lines, before: Some(input.lines.to_vec()) });
+                    out.push(Command::SetLines {
+                        lines,
+                        before: Some(input.lines.to_vec()),
+                    });
                 }
             }
             _ => {}
@@ -498,7 +651,12 @@ impl Canvas {
     }
 }
 
-fn draw_quad(painter: &egui::Painter, q: &Quad, to_screen: impl Fn([f32; 2]) -> Pos2, handles: bool) {
+fn draw_quad(
+    painter: &egui::Painter,
+    q: &Quad,
+    to_screen: impl Fn([f32; 2]) -> Pos2,
+    handles: bool,
+) {
     let pts: Vec<Pos2> = q.iter().map(|p| to_screen(*p)).collect();
     // The rectified grid: lines of constant u and v, so the user sees the
     // wall's verticals as the simulation will.
@@ -508,16 +666,30 @@ fn draw_quad(painter: &egui::Painter, q: &Quad, to_screen: impl Fn([f32; 2]) -> 
             let t = k as f32 / 6.0;
             let a = r.rect_to_photo(w * t, 0.0);
             let b = r.rect_to_photo(w * t, h);
-            painter.line_segment([to_screen([a.0, a.1]), to_screen([b.0, b.1])], Stroke::new(1.0, QUAD_COLOR.gamma_multiply(0.45)));
+            painter.line_segment(
+                [to_screen([a.0, a.1]), to_screen([b.0, b.1])],
+                Stroke::new(1.0, QUAD_COLOR.gamma_multiply(0.45)),
+            );
             let a = r.rect_to_photo(0.0, h * t);
             let b = r.rect_to_photo(w, h * t);
-            painter.line_segment([to_screen([a.0, a.1]), to_screen([b.0, b.1])], Stroke::new(1.0, QUAD_COLOR.gamma_multiply(0.25)));
+            painter.line_segment(
+                [to_screen([a.0, a.1]), to_screen([b.0, b.1])],
+                Stroke::new(1.0, QUAD_COLOR.gamma_multiply(0.25)),
+            );
         }
     }
-    painter.add(Shape::closed_line(pts.clone(), Stroke::new(2.0, QUAD_COLOR)));
+    painter.add(Shape::closed_line(
+        pts.clone(),
+        Stroke::new(2.0, QUAD_COLOR),
+    ));
     if handles {
         for p in pts {
-            painter.circle(p, 6.0, Color32::from_black_alpha(120), Stroke::new(2.0, QUAD_COLOR));
+            painter.circle(
+                p,
+                6.0,
+                Color32::from_black_alpha(120),
+                Stroke::new(2.0, QUAD_COLOR),
+            );
         }
     }
 }

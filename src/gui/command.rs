@@ -63,7 +63,10 @@ impl PromptKind {
 
     /// True when the file is written, not read.
     pub fn saves(self) -> bool {
-        matches!(self, PromptKind::SaveProject | PromptKind::SavePreset | PromptKind::Export)
+        matches!(
+            self,
+            PromptKind::SaveProject | PromptKind::SavePreset | PromptKind::Export
+        )
     }
 
     /// File-dialog filter: name and extensions.
@@ -72,7 +75,10 @@ impl PromptKind {
             PromptKind::OpenImage => ("Images", &["png", "jpg", "jpeg", "tif", "tiff", "webp"]),
             PromptKind::OpenProject | PromptKind::SaveProject => ("grime project", &["json"]),
             PromptKind::LoadPreset | PromptKind::SavePreset => ("Preset", &["toml"]),
-            PromptKind::Export => ("Image or layered document", &["png", "jpg", "tif", "webp", "psd", "ora"]),
+            PromptKind::Export => (
+                "Image or layered document",
+                &["png", "jpg", "tif", "webp", "psd", "ora"],
+            ),
         }
     }
 

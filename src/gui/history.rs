@@ -4,9 +4,9 @@
 
 use image::GrayImage;
 
+use super::tools::PixelRect;
 use crate::perspective::Quad;
 use crate::preset::{Preset, SourceLine};
-use super::tools::PixelRect;
 
 use super::state::Document;
 
@@ -35,12 +35,25 @@ impl MaskPatch {
             let (ra, rb) = (&a[row.clone()], &b[row]);
             let first = ra.iter().zip(rb).position(|(p, q)| p != q);
             let Some(first) = first else { continue };
-            let last = ra.iter().zip(rb).rposition(|(p, q)| p != q).unwrap_or(first);
-            let r = PixelRect { x0: first as u32, y0: y as u32, x1: last as u32 + 1, y1: y as u32 + 1 };
+            let last = ra
+                .iter()
+                .zip(rb)
+                .rposition(|(p, q)| p != q)
+                .unwrap_or(first);
+            let r = PixelRect {
+                x0: first as u32,
+                y0: y as u32,
+                x1: last as u32 + 1,
+                y1: y as u32 + 1,
+            };
             rect = Some(rect.map_or(r, |q| q.union(&r)));
         }
         let rect = rect?;
-        Some(MaskPatch { rect, before: crop(before, rect), after: crop(after, rect) })
+        Some(MaskPatch {
+            rect,
+            before: crop(before, rect),
+            after: crop(after, rect),
+        })
     }
 
     /// Writes the before (`undo`) or after pixels into `mask`.
@@ -165,8 +178,12 @@ impl History {
     pub fn push(&mut self, edit: Edit, merge: bool) {
         self.redo.clear();
         if merge
-            && let (Some(Edit::Preset { key: k0, after: a0, .. }), Edit::Preset { key, after, .. }) =
-                (self.undo.last_mut(), &edit)
+            && let (
+                Some(Edit::Preset {
+                    key: k0, after: a0, ..
+                }),
+                Edit::Preset { key, after, .. },
+            ) = (self.undo.last_mut(), &edit)
             && k0 == key
         {
             *a0 = after.clone();
@@ -228,7 +245,15 @@ mod tests {
         d.mask.put_pixel(2, 1, image::Luma([0]));
         d.mask.put_pixel(4, 3, image::Luma([7]));
         let p = MaskPatch::diff(&before, &d.mask).unwrap();
-        assert_eq!(p.rect, PixelRect { x0: 2, y0: 1, x1: 5, y1: 4 });
+        assert_eq!(
+            p.rect,
+            PixelRect {
+                x0: 2,
+                y0: 1,
+                x1: 5,
+                y1: 4
+            }
+        );
         assert_eq!(p.before.len(), 9);
         let after = d.mask.clone();
         let mut h = History::default();
@@ -249,14 +274,24 @@ mod tests {
             let before = d.preset.clone();
             d.preset.rain.k_a = *v;
             h.push(
-                Edit::Preset { key: "rain.k_a".into(), before: Box::new(before), after: Box::new(d.preset.clone()) },
+                Edit::Preset {
+                    key: "rain.k_a".into(),
+                    before: Box::new(before),
+                    after: Box::new(d.preset.clone()),
+                },
                 i > 0,
             );
         }
         h.undo(&mut d);
         assert_eq!(d.preset, p0, "one drag is one undo step");
         assert!(h.can_redo());
-        h.push(Edit::Lines { before: vec![], after: vec![vec![[0.0, 0.0], [1.0, 0.0]]] }, false);
+        h.push(
+            Edit::Lines {
+                before: vec![],
+                after: vec![vec![[0.0, 0.0], [1.0, 0.0]]],
+            },
+            false,
+        );
         assert!(!h.can_redo());
     }
 }

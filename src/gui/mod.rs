@@ -15,7 +15,6 @@
 //! - [`canvas`], [`tools`], [`panels`]: the canvas and its tools, and the
 //!   parameter, time and layer panels.
 
-
 pub mod app;
 pub mod canvas;
 pub mod command;

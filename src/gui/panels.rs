@@ -14,16 +14,28 @@ use super::state::LayerSetting;
 
 /// The time sliders: preset path and label. Paths missing from the preset
 /// (an effect not built in) are skipped.
-pub const TIME: &[(&str, &str)] = &[("rain.layers", "Rainfalls"), ("moss.years", "Moss years"), ("dust.days", "Dust days")];
+pub const TIME: &[(&str, &str)] = &[
+    ("rain.layers", "Rainfalls"),
+    ("moss.years", "Moss years"),
+    ("dust.days", "Dust days"),
+];
 
 /// Section order and titles; other sections follow in preset order.
-const SECTIONS: &[(&str, &str)] = &[("rain", "Rain"), ("stain", "Stain"), ("moss", "Moss"), ("dust", "Dust"), ("sim", "Simulation")];
+const SECTIONS: &[(&str, &str)] = &[
+    ("rain", "Rain"),
+    ("stain", "Stain"),
+    ("moss", "Moss"),
+    ("dust", "Dust"),
+    ("sim", "Simulation"),
+];
 
 fn title(section: &str) -> String {
     SECTIONS.iter().find(|(s, _)| *s == section).map_or_else(
         || {
             let mut c = section.chars();
-            c.next().map_or_else(String::new, |f| f.to_uppercase().collect::<String>() + c.as_str())
+            c.next().map_or_else(String::new, |f| {
+                f.to_uppercase().collect::<String>() + c.as_str()
+            })
         },
         |(_, t)| t.to_string(),
     )
@@ -55,15 +67,33 @@ fn tooltip(spec: &ParamSpec, default: Option<f64>) -> String {
     if !spec.symbol.is_empty() {
         t.push_str(&format!("\nPaper symbol: {}", spec.symbol));
     }
-    t.push_str(&format!("\nPreset field: {}\nRange {} ..= {}", spec.path, spec.min, spec.max));
+    t.push_str(&format!(
+        "\nPreset field: {}\nRange {} ..= {}",
+        spec.path, spec.min, spec.max
+    ));
     if let Some(d) = default {
         t.push_str(&format!(", default {d}"));
     }
     t
 }
 
+/// A numeric preset field's current state.
+struct Num {
+    value: f64,
+    integer: bool,
+    default: Option<f64>,
+    /// Slider range, if narrower than the allowed one.
+    range: Option<(f64, f64)>,
+}
+
 /// One slider for a numeric preset field, with tooltip and reset button.
-fn param_slider(ui: &mut Ui, label: &str, spec: &ParamSpec, value: f64, integer: bool, default: Option<f64>, range: Option<(f64, f64)>, out: &mut Vec<Command>) {
+fn param_slider(ui: &mut Ui, label: &str, spec: &ParamSpec, num: Num, out: &mut Vec<Command>) {
+    let Num {
+        value,
+        integer,
+        default,
+        range,
+    } = num;
     let (lo, hi) = range.unwrap_or((spec.min, spec.max));
     let typical = default.unwrap_or(value).abs().max(1e-3);
     let log = hi >= 50.0 * typical && hi > 0.0;
@@ -76,13 +106,21 @@ fn param_slider(ui: &mut Ui, label: &str, spec: &ParamSpec, value: f64, integer:
         let r = ui.add(slider).on_hover_text(tooltip(spec, default));
         if r.changed() && x != value {
             let merge = r.dragged() && !r.drag_started();
-            out.push(Command::SetParam { path: spec.path.to_string(), value: fmt_value(x, integer), merge });
+            out.push(Command::SetParam {
+                path: spec.path.to_string(),
+                value: fmt_value(x, integer),
+                merge,
+            });
         }
         if let Some(d) = default {
             let reset = reset_button(ui, d != value, &format!("Reset {}", spec.path))
                 .on_hover_text(format!("Reset {} to its default, {d}", spec.path));
             if reset.clicked() {
-                out.push(Command::SetParam { path: spec.path.to_string(), value: fmt_value(d, integer), merge: false });
+                out.push(Command::SetParam {
+                    path: spec.path.to_string(),
+                    value: fmt_value(d, integer),
+                    merge: false,
+                });
             }
         }
     });
@@ -90,34 +128,55 @@ fn param_slider(ui: &mut Ui, label: &str, spec: &ParamSpec, value: f64, integer:
 
 /// The time sliders (number of rainfalls, moss years, dust days).
 pub fn time(ui: &mut Ui, preset: &Preset, out: &mut Vec<Command>) {
-    let (Ok(value), Ok(defaults)) = (toml::Value::try_from(preset), toml::Value::try_from(Preset::default())) else {
+    let (Ok(value), Ok(defaults)) = (
+        toml::Value::try_from(preset),
+        toml::Value::try_from(Preset::default()),
+    ) else {
         return;
     };
     for (path, label) in TIME {
-        let (Some(v), Some(spec)) = (lookup(&value, path).and_then(number), preset::param(path)) else {
+        let (Some(v), Some(spec)) = (lookup(&value, path).and_then(number), preset::param(path))
+        else {
             continue;
         };
         let default = lookup(&defaults, path).and_then(number).map(|d| d.0);
         // A usable scrubbing range: up to 4x the default (or the current value).
-        let hi = spec.max.min((default.unwrap_or(v.0).max(v.0) * 4.0).max(10.0));
-        param_slider(ui, label, spec, v.0, v.1, default, Some((spec.min, hi)), out);
+        let hi = spec
+            .max
+            .min((default.unwrap_or(v.0).max(v.0) * 4.0).max(10.0));
+        let num = Num {
+            value: v.0,
+            integer: v.1,
+            default,
+            range: Some((spec.min, hi)),
+        };
+        param_slider(ui, label, spec, num, out);
     }
 }
 
 /// Every preset parameter, one collapsible section per effect.
 pub fn parameters(ui: &mut Ui, preset: &Preset, out: &mut Vec<Command>) {
-    let (Ok(value), Ok(defaults)) = (toml::Value::try_from(preset), toml::Value::try_from(Preset::default())) else {
+    let (Ok(value), Ok(defaults)) = (
+        toml::Value::try_from(preset),
+        toml::Value::try_from(Preset::default()),
+    ) else {
         return;
     };
     let Some(root) = value.as_table() else { return };
-    let mut sections: Vec<&str> = SECTIONS.iter().map(|(s, _)| *s).filter(|s| root.get(*s).is_some_and(toml::Value::is_table)).collect();
+    let mut sections: Vec<&str> = SECTIONS
+        .iter()
+        .map(|(s, _)| *s)
+        .filter(|s| root.get(*s).is_some_and(toml::Value::is_table))
+        .collect();
     for (k, v) in root {
         if v.is_table() && !sections.contains(&k.as_str()) {
             sections.insert(sections.len().saturating_sub(1), k);
         }
     }
     for section in sections {
-        let Some(table) = root.get(section).and_then(toml::Value::as_table) else { continue };
+        let Some(table) = root.get(section).and_then(toml::Value::as_table) else {
+            continue;
+        };
         CollapsingHeader::new(RichText::new(title(section)).strong())
             .id_salt(section)
             .default_open(matches!(section, "rain" | "stain" | "moss" | "dust"))
@@ -140,15 +199,34 @@ pub fn parameters(ui: &mut Ui, preset: &Preset, out: &mut Vec<Command>) {
                     let default = lookup(&defaults, &path);
                     match v {
                         toml::Value::Integer(_) | toml::Value::Float(_) => {
-                            if let (Some(spec), Some((x, integer))) = (preset::param(&path), number(v)) {
-                                param_slider(ui, key, spec, x, integer, default.and_then(number).map(|d| d.0), None, out);
+                            if let (Some(spec), Some((x, integer))) =
+                                (preset::param(&path), number(v))
+                            {
+                                let default = default.and_then(number).map(|d| d.0);
+                                param_slider(
+                                    ui,
+                                    key,
+                                    spec,
+                                    Num {
+                                        value: x,
+                                        integer,
+                                        default,
+                                        range: None,
+                                    },
+                                    out,
+                                );
                             }
                         }
                         toml::Value::Boolean(b) => {
                             let mut on = *b;
-                            let doc = preset::param(&path).map_or(path.clone(), |s| s.doc.to_string());
+                            let doc =
+                                preset::param(&path).map_or(path.clone(), |s| s.doc.to_string());
                             if ui.checkbox(&mut on, key).on_hover_text(doc).changed() {
-                                out.push(Command::SetParam { path, value: on.to_string(), merge: false });
+                                out.push(Command::SetParam {
+                                    path,
+                                    value: on.to_string(),
+                                    merge: false,
+                                });
                             }
                         }
                         toml::Value::Array(a) if a.len() == 3 && key.contains("color") => {
@@ -157,7 +235,9 @@ pub fn parameters(ui: &mut Ui, preset: &Preset, out: &mut Vec<Command>) {
                                 *c = x.as_integer().unwrap_or(0).clamp(0, 255) as u8;
                             }
                             ui.horizontal(|ui| {
-                                let doc = preset::param(&path).map_or(path.clone(), |s| format!("{}\nPreset field: {path}", s.doc));
+                                let doc = preset::param(&path).map_or(path.clone(), |s| {
+                                    format!("{}\nPreset field: {path}", s.doc)
+                                });
                                 let r = ui.color_edit_button_srgb(&mut rgb).on_hover_text(doc);
                                 ui.label(key);
                                 if r.changed() {
@@ -172,7 +252,11 @@ pub fn parameters(ui: &mut Ui, preset: &Preset, out: &mut Vec<Command>) {
                                         .on_hover_text(format!("Reset {path} to its default"))
                                         .clicked()
                                 {
-                                    out.push(Command::SetParam { path: path.clone(), value: d.to_string(), merge: false });
+                                    out.push(Command::SetParam {
+                                        path: path.clone(),
+                                        value: d.to_string(),
+                                        merge: false,
+                                    });
                                 }
                             });
                         }
@@ -194,11 +278,23 @@ pub fn seed(ui: &mut Ui, preset: &Preset, out: &mut Vec<Command>) {
             .labelled_by(label.id)
             .on_hover_text(tip);
         if r.changed() {
-            out.push(Command::SetParam { path: "seed".into(), value: seed.to_string(), merge: r.dragged() });
+            out.push(Command::SetParam {
+                path: "seed".into(),
+                value: seed.to_string(),
+                merge: r.dragged(),
+            });
         }
-        if ui.button("Random").on_hover_text("A new random seed: another variation of the same weathering").clicked() {
+        if ui
+            .button("Random")
+            .on_hover_text("A new random seed: another variation of the same weathering")
+            .clicked()
+        {
             let new = rand::random::<u32>() as u64;
-            out.push(Command::SetParam { path: "seed".into(), value: new.to_string(), merge: false });
+            out.push(Command::SetParam {
+                path: "seed".into(),
+                value: new.to_string(),
+                merge: false,
+            });
         }
     });
 }
@@ -222,33 +318,63 @@ pub fn layers(ui: &mut Ui, rows: &[LayerRow], out: &mut Vec<Command>) {
         ui.weak("No layers yet.");
         return;
     }
-    egui::ScrollArea::vertical().id_salt("layers").max_height(180.0).show(ui, |ui| {
-        egui::Grid::new("layer grid").num_columns(2).striped(true).show(ui, |ui| {
-            for row in rows.iter().rev() {
-                let mut visible = row.setting.visible;
-                let vis = ui
-                    .horizontal(|ui| {
-                        let r = ui.checkbox(&mut visible, row.name.as_str()).on_hover_text("Show this layer (and export it)");
-                        if visible && !row.visible {
-                            ui.weak("later").on_hover_text("Beyond the time slider: shown when you move it forward");
+    egui::ScrollArea::vertical()
+        .id_salt("layers")
+        .max_height(180.0)
+        .show(ui, |ui| {
+            egui::Grid::new("layer grid")
+                .num_columns(2)
+                .striped(true)
+                .show(ui, |ui| {
+                    for row in rows.iter().rev() {
+                        let mut visible = row.setting.visible;
+                        let vis = ui
+                            .horizontal(|ui| {
+                                let r = ui
+                                    .checkbox(&mut visible, row.name.as_str())
+                                    .on_hover_text("Show this layer (and export it)");
+                                if visible && !row.visible {
+                                    ui.weak("later").on_hover_text(
+                                        "Beyond the time slider: shown when you move it forward",
+                                    );
+                                }
+                                r
+                            })
+                            .inner;
+                        let mut opacity = row.opacity;
+                        let op = ui.add(
+                            Slider::new(&mut opacity, 0.0..=1.0)
+                                .text("opacity")
+                                .fixed_decimals(2),
+                        );
+                        if vis.changed() {
+                            out.push(Command::SetLayer {
+                                name: row.name.clone(),
+                                setting: LayerSetting {
+                                    visible,
+                                    ..row.setting
+                                },
+                            });
                         }
-                        r
-                    })
-                    .inner;
-                let mut opacity = row.opacity;
-                let op = ui.add(Slider::new(&mut opacity, 0.0..=1.0).text("opacity").fixed_decimals(2));
-                if vis.changed() {
-                    out.push(Command::SetLayer { name: row.name.clone(), setting: LayerSetting { visible, ..row.setting } });
-                }
-                if op.changed() {
-                    let setting = LayerSetting { opacity: Some(opacity), ..row.setting };
-                    out.push(Command::SetLayer { name: row.name.clone(), setting });
-                }
-                ui.end_row();
-            }
+                        if op.changed() {
+                            let setting = LayerSetting {
+                                opacity: Some(opacity),
+                                ..row.setting
+                            };
+                            out.push(Command::SetLayer {
+                                name: row.name.clone(),
+                                setting,
+                            });
+                        }
+                        ui.end_row();
+                    }
+                });
         });
-    });
-    if ui.small_button("Reset layers").on_hover_text("Show every layer at the preset's opacity").clicked() {
+    if ui
+        .small_button("Reset layers")
+        .on_hover_text("Show every layer at the preset's opacity")
+        .clicked()
+    {
         out.push(Command::ResetLayers);
     }
 }
@@ -256,7 +382,11 @@ pub fn layers(ui: &mut Ui, rows: &[LayerRow], out: &mut Vec<Command>) {
 /// A small "reset" button: a circular arrow, named `name` for screen
 /// readers and tests.
 fn reset_button(ui: &mut Ui, enabled: bool, name: &str) -> Response {
-    let sense = if enabled { Sense::click() } else { Sense::hover() };
+    let sense = if enabled {
+        Sense::click()
+    } else {
+        Sense::hover()
+    };
     let (rect, resp) = ui.allocate_exact_size(vec2(18.0, 18.0), sense);
     let name = name.to_string();
     resp.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Button, enabled, &name));
@@ -273,10 +403,12 @@ fn reset_button(ui: &mut Ui, enabled: bool, name: &str) -> Response {
         let c = rect.center();
         let r = 5.0;
         let (a0, a1) = (-2.2f32, 2.4f32);
-        let arc: Vec<_> = (0..=16).map(|i| {
-            let a = a0 + (a1 - a0) * i as f32 / 16.0;
-            c + vec2(a.cos(), a.sin()) * r
-        }).collect();
+        let arc: Vec<_> = (0..=16)
+            .map(|i| {
+                let a = a0 + (a1 - a0) * i as f32 / 16.0;
+                c + vec2(a.cos(), a.sin()) * r
+            })
+            .collect();
         painter.add(Shape::line(arc, Stroke::new(1.4, color)));
         // Arrow head at the start of the arc, pointing back along it.
         let tip = c + vec2(a0.cos(), a0.sin()) * r;

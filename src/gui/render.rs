@@ -6,12 +6,19 @@
 //! A preview keeps its layer stack, so changes that need no new simulation
 //! (stain colour and opacity, layer visibility and opacity, fewer rainfalls)
 //! only re-composite: see [`needs_simulation`] and [`Preview::restyle`].
+//!
+//! A simulation runs in two passes ([`Previewer::run`]): a quick one on a
+//! coarse grid ([`QUICK_MAX_SIDE`]) that the canvas shows at once, then the
+//! full one with the preset as it is. The [`Previewer`] also keeps the dust
+//! layers between runs: they depend only on the region, the quad, the dust
+//! parameters and the seed, so a rain or moss change reuses them.
 
 use eframe::egui;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::time::Instant;
 
 use egui::ColorImage;
 use image::{DynamicImage, GrayImage};
@@ -20,16 +27,21 @@ use crate::error::Result;
 use crate::export;
 use crate::perspective::{self, Quad};
 use crate::photo::Photo;
-use crate::pipeline::Scene;
-use crate::preset::Preset;
+use crate::pipeline::{Scene, Timing};
+use crate::preset::{DustParams, Preset};
 use crate::progress::Progress;
-use crate::stack::{LayerPixels, Stack};
+use crate::stack::{Layer, LayerPixels, Stack};
 
 use super::state::{LayerSetting, apply_layer_settings};
 use super::tools::PixelRect;
 
 /// Pixels of the preview proxy (about 1 MP).
 pub const PROXY_PIXELS: u64 = 1_000_000;
+
+/// Longest side of the simulation grid in the quick pass. The droplet count
+/// follows the grid's width and the streak geometry is resolution
+/// independent, so the quick pass looks like the full one, only blurrier.
+pub const QUICK_MAX_SIDE: u32 = 192;
 
 /// The photo and mask scaled down for previews, and the mapping to them.
 #[derive(Debug, Clone)]
@@ -50,10 +62,20 @@ impl Proxy {
         let (w, h) = (photo.width(), photo.height());
         let s = (max_pixels as f64 / (w as f64 * h as f64)).sqrt().min(1.0);
         if s >= 1.0 {
-            return Proxy { sx: 1.0, sy: 1.0, photo: Arc::clone(photo), mask: mask.clone() };
+            return Proxy {
+                sx: 1.0,
+                sy: 1.0,
+                photo: Arc::clone(photo),
+                mask: mask.clone(),
+            };
         }
-        let (pw, ph) = (((w as f64 * s).round() as u32).max(1), ((h as f64 * s).round() as u32).max(1));
-        let img = photo.image().resize_exact(pw, ph, image::imageops::FilterType::Triangle);
+        let (pw, ph) = (
+            ((w as f64 * s).round() as u32).max(1),
+            ((h as f64 * s).round() as u32).max(1),
+        );
+        let img = photo
+            .image()
+            .resize_exact(pw, ph, image::imageops::FilterType::Triangle);
         let mut small = Photo::new(img);
         small.icc = photo.icc.clone();
         let mut proxy = Proxy {
@@ -108,7 +130,8 @@ impl Proxy {
                     sum += row.iter().map(|&v| v as u64).sum::<u64>();
                 }
                 let n = ((yb - ya) * (xb - xa)) as u64;
-                self.mask.put_pixel(px, py, image::Luma([((sum + n / 2) / n) as u8]));
+                self.mask
+                    .put_pixel(px, py, image::Luma([((sum + n / 2) / n) as u8]));
             }
         }
         Some(r)
@@ -120,15 +143,25 @@ impl Proxy {
     }
 
     /// The preview job for a document's state.
-    pub fn job(&self, preset: &Preset, quad: Option<&Quad>, layers: &BTreeMap<String, LayerSetting>) -> Result<PreviewJob> {
+    pub fn job(
+        &self,
+        preset: &Preset,
+        quad: Option<&Quad>,
+        layers: &BTreeMap<String, LayerSetting>,
+    ) -> Result<PreviewJob> {
         let mut preset = preset.clone();
         for line in &mut preset.rain.source_lines {
             for p in line.iter_mut() {
                 *p = self.to_proxy(*p);
             }
         }
+        // The proxy photo is shared, not copied (it never changes).
         Ok(PreviewJob {
-            scene: Scene::new((*self.photo).clone(), Some(self.mask.clone()))?,
+            scene: Scene {
+                photo: Arc::clone(&self.photo),
+                region: Some(Arc::new(self.mask.clone())),
+                normals: None,
+            },
             quad: quad.map(|q| q.map(|p| self.to_proxy(p))),
             preset,
             layers: layers.clone(),
@@ -154,30 +187,187 @@ pub struct PreviewJob {
 pub struct Preview {
     /// The simulated stack, styled by the current settings.
     pub stack: Stack,
-    /// The preset the stack was simulated with.
+    /// The preset the stack was simulated with (for a quick pass: with the
+    /// coarse grid).
     pub sim_preset: Preset,
     /// Opacity and visibility of each layer as the pipeline made it.
     original: Vec<(f32, bool)>,
-    /// The composite, ready for a texture.
-    pub image: ColorImage,
+    /// The composite, ready for a texture (shared with it, not copied).
+    pub image: Arc<ColorImage>,
+    /// True for a quick pass on a coarse grid; the full pass follows.
+    pub quick: bool,
+    /// Where the time went: the pipeline's stages, then "composite" and
+    /// "image" (conversion for the texture), ms.
+    pub timings: Vec<Timing>,
 }
 
-/// Runs the pipeline for a preview and composites it.
+/// The quick pass's preset for a proxy of `width` x `height`: the same
+/// preset on a grid of at most [`QUICK_MAX_SIDE`]. `None` when the full
+/// pass's grid is not much finer than that (or there is nothing the grid
+/// changes), so one pass is enough.
+pub fn quick_preset(preset: &Preset, width: u32, height: u32) -> Option<Preset> {
+    let longest = width.max(height);
+    let full = match preset.sim.max_side {
+        0 => longest,
+        m => m.min(longest),
+    };
+    let grid_matters = preset.rain.layers > 0 || preset.moss.enabled;
+    (grid_matters && full * 2 > QUICK_MAX_SIDE * 3).then(|| {
+        let mut p = preset.clone();
+        p.sim.max_side = QUICK_MAX_SIDE;
+        p
+    })
+}
+
+/// True for the layers the dust makes ("dust film", "dust granules").
+fn is_dust_layer(name: &str) -> bool {
+    name.starts_with("dust ")
+}
+
+/// The dust layers of the last run and what they were made from.
+#[derive(Debug)]
+struct DustCache {
+    size: (u32, u32),
+    region: Option<Arc<GrayImage>>,
+    quad: Option<Quad>,
+    params: DustParams,
+    seed: u64,
+    layers: Vec<Layer>,
+}
+
+impl DustCache {
+    fn matches(&self, job: &PreviewJob, preset: &Preset) -> bool {
+        let photo = &job.scene.photo;
+        self.size == (photo.width(), photo.height())
+            && self.quad == job.quad
+            && self.params == preset.dust
+            && self.seed == preset.seed
+            && job.scene.normals.is_none()
+            && match (&self.region, &job.scene.region) {
+                (None, None) => true,
+                (Some(a), Some(b)) => Arc::ptr_eq(a, b) || a.as_raw() == b.as_raw(),
+                _ => false,
+            }
+    }
+}
+
+/// Runs preview jobs (the preview worker owns one): a quick pass on a
+/// coarse grid, then the full pass. Keeps the last dust layers for the next
+/// run.
+#[derive(Debug, Default)]
+pub struct Previewer {
+    dust: Option<DustCache>,
+}
+
+impl Previewer {
+    /// Both passes: hands the quick one to `emit` as soon as it is ready,
+    /// then returns the full one. Stops at the pipeline's next check once
+    /// `progress` is cancelled, also between and during the passes.
+    ///
+    /// # Errors
+    /// As [`perspective::pipeline_with_quad`].
+    pub fn run(
+        &mut self,
+        job: PreviewJob,
+        progress: &Progress,
+        emit: &dyn Fn(Preview),
+    ) -> Result<Preview> {
+        if let Some(quick) = self.quick(&job, progress) {
+            emit(quick?);
+            progress.check()?;
+        }
+        self.full(&job, progress)
+    }
+
+    /// The quick pass alone; `None` when the job needs none (see
+    /// [`quick_preset`]).
+    ///
+    /// # Errors
+    /// As [`perspective::pipeline_with_quad`].
+    pub fn quick(&mut self, job: &PreviewJob, progress: &Progress) -> Option<Result<Preview>> {
+        let photo = &job.scene.photo;
+        let preset = quick_preset(&job.preset, photo.width(), photo.height())?;
+        Some(self.pass(job, &preset, true, progress))
+    }
+
+    /// The full pass alone: the job's preset as it is.
+    ///
+    /// # Errors
+    /// As [`perspective::pipeline_with_quad`].
+    pub fn full(&mut self, job: &PreviewJob, progress: &Progress) -> Result<Preview> {
+        self.pass(job, &job.preset, false, progress)
+    }
+
+    fn pass(
+        &mut self,
+        job: &PreviewJob,
+        preset: &Preset,
+        quick: bool,
+        progress: &Progress,
+    ) -> Result<Preview> {
+        let reuse = preset.dust.enabled && self.dust.as_ref().is_some_and(|c| c.matches(job, preset));
+        let without_dust;
+        let run = if reuse {
+            let mut p = preset.clone();
+            p.dust.enabled = false;
+            without_dust = p;
+            &without_dust
+        } else {
+            preset
+        };
+        let out = perspective::pipeline_with_quad(&job.scene, job.quad.as_ref(), run, progress)?;
+        let mut timings = out.report.timings;
+        let mut stack = out.stack;
+        let start = Instant::now();
+        if let (true, Some(cache)) = (reuse, &self.dust) {
+            stack.layers.extend(cache.layers.iter().cloned());
+            timings.push(lap("dust (kept)", start));
+        } else if preset.dust.enabled && job.scene.normals.is_none() {
+            let photo = &job.scene.photo;
+            self.dust = Some(DustCache {
+                size: (photo.width(), photo.height()),
+                region: job.scene.region.clone(),
+                quad: job.quad,
+                params: preset.dust.clone(),
+                seed: preset.seed,
+                layers: stack
+                    .layers
+                    .iter()
+                    .filter(|l| is_dust_layer(&l.name))
+                    .cloned()
+                    .collect(),
+            });
+        }
+        let original = stack.layers.iter().map(|l| (l.opacity, l.visible)).collect();
+        let mut preview = Preview {
+            stack,
+            sim_preset: preset.clone(),
+            original,
+            image: Arc::default(),
+            quick,
+            timings,
+        };
+        progress.update("composite", 1.0);
+        let [composite, image] = preview.restyle_timed(&job.preset, &job.layers);
+        preview.timings.extend([composite, image]);
+        Ok(preview)
+    }
+}
+
+fn lap(stage: &str, since: Instant) -> Timing {
+    Timing {
+        stage: stage.into(),
+        ms: since.elapsed().as_secs_f64() * 1000.0,
+    }
+}
+
+/// Runs the pipeline for a preview and composites it: the full pass alone,
+/// with nothing kept from earlier runs.
 ///
 /// # Errors
 /// As [`perspective::pipeline_with_quad`].
 pub fn simulate(job: PreviewJob, progress: &Progress) -> Result<Preview> {
-    let out = perspective::pipeline_with_quad(&job.scene, job.quad.as_ref(), &job.preset, progress)?;
-    let original = out.stack.layers.iter().map(|l| (l.opacity, l.visible)).collect();
-    let mut preview = Preview {
-        stack: out.stack,
-        sim_preset: job.preset.clone(),
-        original,
-        image: ColorImage::default(),
-    };
-    progress.update("composite", 1.0);
-    preview.restyle(&job.preset, &job.layers);
-    Ok(preview)
+    Previewer::default().full(&job, progress)
 }
 
 impl Preview {
@@ -185,9 +375,24 @@ impl Preview {
     /// the layer settings, then re-composites. Call only when
     /// [`needs_simulation`] is false.
     pub fn restyle(&mut self, preset: &Preset, layers: &BTreeMap<String, LayerSetting>) {
+        self.restyle_timed(preset, layers);
+    }
+
+    /// [`Preview::restyle`], returning the time of the composite and of the
+    /// conversion to a texture image.
+    fn restyle_timed(
+        &mut self,
+        preset: &Preset,
+        layers: &BTreeMap<String, LayerSetting>,
+    ) -> [Timing; 2] {
+        let start = Instant::now();
         style_stack(&mut self.stack, &self.original, preset);
         apply_layer_settings(layers, &mut self.stack);
-        self.image = to_color_image(&self.stack.composite());
+        let composite = self.stack.composite();
+        let t_composite = lap("composite", start);
+        let start = Instant::now();
+        self.image = Arc::new(to_color_image(&composite));
+        [t_composite, lap("image", start)]
     }
 
     /// Names of the layers, bottom to top.
@@ -233,9 +438,7 @@ pub fn needs_simulation(sim: &Preset, next: &Preset, only_rain: bool) -> bool {
     diff_paths(&a, &b, String::new(), &mut changed);
     changed.iter().any(|path| match path.as_str() {
         p if RESTYLE_ONLY.contains(&p) => false,
-        "rain.layers" => {
-            next.rain.layers > sim.rain.layers || !only_rain
-        }
+        "rain.layers" => next.rain.layers > sim.rain.layers || !only_rain,
         _ => true,
     })
 }
@@ -245,14 +448,22 @@ pub fn diff_paths(a: &toml::Value, b: &toml::Value, prefix: String, out: &mut Ve
     match (a, b) {
         (toml::Value::Table(ta), toml::Value::Table(tb)) => {
             for (k, va) in ta {
-                let path = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+                let path = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
                 match tb.get(k) {
                     Some(vb) => diff_paths(va, vb, path, out),
                     None => out.push(path),
                 }
             }
             for k in tb.keys().filter(|k| !ta.contains_key(*k)) {
-                out.push(if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") });
+                out.push(if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                });
             }
         }
         _ if a != b => out.push(prefix),
@@ -266,7 +477,9 @@ pub fn to_color_image(img: &DynamicImage) -> ColorImage {
     match img {
         DynamicImage::ImageRgb8(rgb) => ColorImage::from_rgb(size, rgb.as_raw()),
         DynamicImage::ImageRgba8(rgba) => ColorImage::from_rgba_unmultiplied(size, rgba.as_raw()),
-        other if other.color().has_alpha() => ColorImage::from_rgba_unmultiplied(size, other.to_rgba8().as_raw()),
+        other if other.color().has_alpha() => {
+            ColorImage::from_rgba_unmultiplied(size, other.to_rgba8().as_raw())
+        }
         other => ColorImage::from_rgb(size, other.to_rgb8().as_raw()),
     }
 }
@@ -305,9 +518,18 @@ pub struct Exported {
 /// As [`perspective::pipeline_with_quad`] and [`export::save`].
 pub fn export(job: ExportJob, progress: &Progress) -> Result<Exported> {
     crate::io::Format::from_path(&job.path)?;
-    let out = perspective::pipeline_with_quad(&job.scene, job.quad.as_ref(), &job.preset, &progress.span(0.0, 0.9))?;
+    let out = perspective::pipeline_with_quad(
+        &job.scene,
+        job.quad.as_ref(),
+        &job.preset,
+        &progress.span(0.0, 0.9),
+    )?;
     let mut stack = out.stack;
-    let original: Vec<_> = stack.layers.iter().map(|l| (l.opacity, l.visible)).collect();
+    let original: Vec<_> = stack
+        .layers
+        .iter()
+        .map(|l| (l.opacity, l.visible))
+        .collect();
     style_stack(&mut stack, &original, &job.preset);
     apply_layer_settings(&job.layers, &mut stack);
     progress.update("writing", 0.92);
@@ -339,7 +561,9 @@ mod tests {
 
     #[test]
     fn proxy_is_about_one_megapixel_and_averages_the_mask() {
-        let photo = Arc::new(Photo::new(DynamicImage::ImageRgb8(image::RgbImage::new(3000, 2000))));
+        let photo = Arc::new(Photo::new(DynamicImage::ImageRgb8(image::RgbImage::new(
+            3000, 2000,
+        ))));
         let mut mask = GrayImage::new(3000, 2000);
         for y in 0..2000 {
             for x in 0..1500 {
@@ -348,14 +572,23 @@ mod tests {
         }
         let p = Proxy::new(&photo, &mask, PROXY_PIXELS);
         let (w, h) = (p.photo.width(), p.photo.height());
-        assert!((w * h) as f64 / 1e6 > 0.95 && (w * h) as f64 / 1e6 < 1.05, "{w}x{h}");
+        assert!(
+            (w * h) as f64 / 1e6 > 0.95 && (w * h) as f64 / 1e6 < 1.05,
+            "{w}x{h}"
+        );
         assert_eq!(p.mask.dimensions(), (w, h));
         assert_eq!(p.mask.get_pixel(10, 10)[0], 255);
         assert_eq!(p.mask.get_pixel(w - 10, 10)[0], 0);
         let mid = p.mask.get_pixel(w / 2, 10)[0];
         assert!(mid > 0, "edge is averaged: {mid}");
         assert_eq!(p.to_proxy([3000.0, 2000.0]), [w as f32, h as f32]);
-        let small = Proxy::new(&Arc::new(Photo::new(DynamicImage::ImageRgb8(image::RgbImage::new(100, 80)))), &GrayImage::new(100, 80), PROXY_PIXELS);
+        let small = Proxy::new(
+            &Arc::new(Photo::new(DynamicImage::ImageRgb8(image::RgbImage::new(
+                100, 80,
+            )))),
+            &GrayImage::new(100, 80),
+            PROXY_PIXELS,
+        );
         assert!(small.is_full_size());
     }
 
@@ -367,14 +600,22 @@ mod tests {
         sim.rain.layers = 3;
         sim.rain.droplets = 50;
         rain_only(&mut sim);
-        let stack = crate::pipeline::run(&scene, &sim, &Progress::none()).unwrap().stack;
+        let stack = crate::pipeline::run(&scene, &sim, &Progress::none())
+            .unwrap()
+            .stack;
         let mut next = sim.clone();
         next.stain.opacity = 0.3;
         next.stain.color = [10, 20, 30];
         assert!(!needs_simulation(&sim, &next, only_rain(&stack)));
         next.rain.layers = 2;
-        assert!(!needs_simulation(&sim, &next, only_rain(&stack)), "fewer rainfalls: hide the last ones");
-        assert!(needs_simulation(&sim, &next, false), "unless other layers depend on them");
+        assert!(
+            !needs_simulation(&sim, &next, only_rain(&stack)),
+            "fewer rainfalls: hide the last ones"
+        );
+        assert!(
+            needs_simulation(&sim, &next, false),
+            "unless other layers depend on them"
+        );
         next.rain.layers = 4;
         assert!(needs_simulation(&sim, &next, only_rain(&stack)));
         let mut k = sim.clone();
@@ -392,9 +633,13 @@ mod tests {
         p.rain.droplets = 200;
         p.rain.layers = 4;
         rain_only(&mut p);
-        let long = crate::pipeline::run(&scene, &p, &Progress::none()).unwrap().stack;
+        let long = crate::pipeline::run(&scene, &p, &Progress::none())
+            .unwrap()
+            .stack;
         p.rain.layers = 2;
-        let short = crate::pipeline::run(&scene, &p, &Progress::none()).unwrap().stack;
+        let short = crate::pipeline::run(&scene, &p, &Progress::none())
+            .unwrap()
+            .stack;
         for (a, b) in short.layers.iter().zip(&long.layers) {
             assert_eq!(a.to_rgba(), b.to_rgba(), "{}", a.name);
         }
@@ -420,7 +665,11 @@ mod tests {
         let mut a = simulate(job(4, 0.8), &Progress::none()).unwrap();
         let fresh = simulate(job(2, 0.5), &Progress::none()).unwrap();
         let target = job(2, 0.5).preset;
-        assert!(!needs_simulation(&a.sim_preset, &target, only_rain(&a.stack)));
+        assert!(!needs_simulation(
+            &a.sim_preset,
+            &target,
+            only_rain(&a.stack)
+        ));
         a.restyle(&target, &BTreeMap::new());
         assert_eq!(a.image, fresh.image);
     }

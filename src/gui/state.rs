@@ -34,7 +34,9 @@ impl ImageSource {
     /// A short name for titles and messages.
     pub fn display_name(&self) -> String {
         match self {
-            ImageSource::File(p) => p.file_name().map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into()),
+            ImageSource::File(p) => p
+                .file_name()
+                .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into()),
             ImageSource::Demo(n) => format!("sample: {n}"),
         }
     }
@@ -51,7 +53,10 @@ pub struct LayerSetting {
 
 impl Default for LayerSetting {
     fn default() -> Self {
-        LayerSetting { visible: true, opacity: None }
+        LayerSetting {
+            visible: true,
+            opacity: None,
+        }
     }
 }
 
@@ -109,7 +114,10 @@ impl Document {
     /// # Errors
     /// [`ProjectError`] when a file cannot be written.
     pub fn save_project(&self, path: &Path) -> Result<(), ProjectError> {
-        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let dir = path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
         let mask_name = mask_file_name(path);
         let image = match &self.source {
             ImageSource::File(p) => ImageSource::File(relative_to(p, dir)),
@@ -129,7 +137,11 @@ impl Document {
             path: path.to_path_buf(),
             reason: e.to_string(),
         })?;
-        io::save_image(&DynamicImage::ImageLuma8(self.mask.clone()), None, &dir.join(&mask_name))?;
+        io::save_image(
+            &DynamicImage::ImageLuma8(self.mask.clone()),
+            None,
+            &dir.join(&mask_name),
+        )?;
         io::write_atomic(path, |out| {
             std::io::Write::write_all(out, text.as_bytes()).map_err(|e| Error::io(path, e))
         })?;
@@ -157,10 +169,17 @@ impl Document {
         if let Some(q) = &file.quad {
             crate::perspective::validate(q)?;
         }
-        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let dir = path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
         let (source, photo) = match &file.image {
             ImageSource::File(p) => {
-                let full = if p.is_absolute() { p.clone() } else { dir.join(p) };
+                let full = if p.is_absolute() {
+                    p.clone()
+                } else {
+                    dir.join(p)
+                };
                 let photo = io::load_photo(&full)?;
                 (ImageSource::File(full), photo)
             }
@@ -211,7 +230,10 @@ struct ProjectFile {
 
 /// `dir/NAME.grime.json` → `NAME.mask.png`.
 fn mask_file_name(project: &Path) -> String {
-    let name = project.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = project
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let stem = name
         .strip_suffix(".grime.json")
         .or_else(|| name.strip_suffix(".json"))
@@ -252,17 +274,31 @@ mod tests {
         let img_path = dir.path().join("wall.png");
         let d = demo::facade(64, 48);
         io::save_image(d.photo.image(), None, &img_path).unwrap();
-        let mut doc = Document::new(ImageSource::File(img_path.clone()), 64, 48, Preset::default());
+        let mut doc = Document::new(
+            ImageSource::File(img_path.clone()),
+            64,
+            48,
+            Preset::default(),
+        );
         doc.mask = d.region.unwrap();
         doc.lines = vec![vec![[1.0, 10.0], [60.0, 12.0]]];
         doc.quad = Some([[2.0, 2.0], [60.0, 3.0], [61.0, 45.0], [1.0, 44.0]]);
         doc.preset.rain.k_a = 0.25;
-        doc.layers.insert("rain 01".into(), LayerSetting { visible: false, opacity: Some(0.5) });
+        doc.layers.insert(
+            "rain 01".into(),
+            LayerSetting {
+                visible: false,
+                opacity: Some(0.5),
+            },
+        );
         let project = dir.path().join("facade.grime.json");
         doc.save_project(&project).unwrap();
         assert!(dir.path().join("facade.mask.png").exists());
         let text = std::fs::read_to_string(&project).unwrap();
-        assert!(text.contains("\"wall.png\""), "image path is relative: {text}");
+        assert!(
+            text.contains("\"wall.png\""),
+            "image path is relative: {text}"
+        );
         let (back, photo) = Document::load_project(&project).unwrap();
         assert_eq!((photo.width(), photo.height()), (64, 48));
         assert_eq!(back.mask, doc.mask);
@@ -279,7 +315,9 @@ mod tests {
         std::fs::write(&p, "{ not json").unwrap();
         let e = Document::load_project(&p).unwrap_err().to_string();
         assert!(e.contains("not a grime project"), "{e}");
-        let e = Document::load_project(&dir.path().join("missing.json")).unwrap_err().to_string();
+        let e = Document::load_project(&dir.path().join("missing.json"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("missing.json"), "{e}");
     }
 }

@@ -29,7 +29,12 @@ pub struct PixelRect {
 impl PixelRect {
     /// The whole of a `w` x `h` image.
     pub fn full(w: u32, h: u32) -> PixelRect {
-        PixelRect { x0: 0, y0: 0, x1: w, y1: h }
+        PixelRect {
+            x0: 0,
+            y0: 0,
+            x1: w,
+            y1: h,
+        }
     }
 
     /// The pixels touched by the continuous box `[x0, x1) x [y0, y1)`,
@@ -141,17 +146,30 @@ impl Tool {
             Tool::Brush => "Paint the wall region. [ and ] change the size.",
             Tool::Eraser => "Erase from the wall region. [ and ] change the size.",
             Tool::Rectangle => "Drag a rectangle to add to (or subtract from) the wall region.",
-            Tool::Lasso => "Click polygon corners (or drag freehand); double-click, Enter or click the first corner to close. Esc cancels.",
-            Tool::Wand => "Click a colour: the connected area of similar colour joins (or leaves) the wall region.",
-            Tool::Line => "Click the points of a source line where water drips from (sill, cornice); double-click or Enter finishes, Shift keeps it level, Esc cancels.",
-            Tool::EditLines => "Drag a point to move it, drag a line to move the whole line; Delete removes the selected line.",
-            Tool::Quad => "Drag on the image to place a perspective quad on the wall, then drag its corners onto a rectangle of the wall.",
+            Tool::Lasso => {
+                "Click polygon corners (or drag freehand); double-click, Enter or click the first corner to close. Esc cancels."
+            }
+            Tool::Wand => {
+                "Click a colour: the connected area of similar colour joins (or leaves) the wall region."
+            }
+            Tool::Line => {
+                "Click the points of a source line where water drips from (sill, cornice); double-click or Enter finishes, Shift keeps it level, Esc cancels."
+            }
+            Tool::EditLines => {
+                "Drag a point to move it, drag a line to move the whole line; Delete removes the selected line."
+            }
+            Tool::Quad => {
+                "Drag on the image to place a perspective quad on the wall, then drag its corners onto a rectangle of the wall."
+            }
         }
     }
 
     /// True for tools that edit the mask.
     pub fn edits_mask(self) -> bool {
-        matches!(self, Tool::Brush | Tool::Eraser | Tool::Rectangle | Tool::Lasso | Tool::Wand)
+        matches!(
+            self,
+            Tool::Brush | Tool::Eraser | Tool::Rectangle | Tool::Lasso | Tool::Wand
+        )
     }
 }
 
@@ -194,7 +212,13 @@ impl Default for ToolSettings {
 /// One round brush dab at `c` (photo pixels). The brush adds wall
 /// (`max`), the eraser removes it (`min`); `hardness` is the flat part of
 /// the radius. Returns the box it touched.
-pub fn dab(mask: &mut GrayImage, c: [f32; 2], radius: f32, hardness: f32, erase: bool) -> Option<PixelRect> {
+pub fn dab(
+    mask: &mut GrayImage,
+    c: [f32; 2],
+    radius: f32,
+    hardness: f32,
+    erase: bool,
+) -> Option<PixelRect> {
     let r = radius.max(0.5);
     let (w, h) = mask.dimensions();
     let rect = PixelRect::around(c[0] - r, c[1] - r, c[0] + r, c[1] + r, w, h)?;
@@ -213,14 +237,25 @@ pub fn dab(mask: &mut GrayImage, c: [f32; 2], radius: f32, hardness: f32, erase:
             };
             let px = &mut mask.get_pixel_mut(x, y)[0];
             let v = (v * 255.0).round() as u8;
-            *px = if erase { (*px).min(255 - v) } else { (*px).max(v) };
+            *px = if erase {
+                (*px).min(255 - v)
+            } else {
+                (*px).max(v)
+            };
         }
     }
     Some(rect)
 }
 
 /// Dabs from `a` to `b`, spaced a quarter radius apart.
-pub fn stroke(mask: &mut GrayImage, a: [f32; 2], b: [f32; 2], radius: f32, hardness: f32, erase: bool) -> Option<PixelRect> {
+pub fn stroke(
+    mask: &mut GrayImage,
+    a: [f32; 2],
+    b: [f32; 2],
+    radius: f32,
+    hardness: f32,
+    erase: bool,
+) -> Option<PixelRect> {
     let len = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
     let steps = (len / (radius * 0.25).max(0.5)).ceil().max(1.0) as usize;
     let mut out: Option<PixelRect> = None;
@@ -242,7 +277,12 @@ fn set(px: &mut u8, mode: MaskMode) {
 }
 
 /// Fills the pixels whose centres lie in the box between corners `a` and `b`.
-pub fn fill_rect(mask: &mut GrayImage, a: [f32; 2], b: [f32; 2], mode: MaskMode) -> Option<PixelRect> {
+pub fn fill_rect(
+    mask: &mut GrayImage,
+    a: [f32; 2],
+    b: [f32; 2],
+    mode: MaskMode,
+) -> Option<PixelRect> {
     let (w, h) = mask.dimensions();
     let (x0, x1) = (a[0].min(b[0]), a[0].max(b[0]));
     let (y0, y1) = (a[1].min(b[1]), a[1].max(b[1]));
@@ -255,7 +295,12 @@ pub fn fill_rect(mask: &mut GrayImage, a: [f32; 2], b: [f32; 2], mode: MaskMode)
     if xb <= xa || yb <= ya {
         return None;
     }
-    let rect = PixelRect { x0: xa, y0: ya, x1: xb, y1: yb };
+    let rect = PixelRect {
+        x0: xa,
+        y0: ya,
+        x1: xb,
+        y1: yb,
+    };
     for y in rect.y0..rect.y1 {
         for x in rect.x0..rect.x1 {
             set(&mut mask.get_pixel_mut(x, y)[0], mode);
@@ -298,7 +343,12 @@ pub fn fill_polygon(mask: &mut GrayImage, pts: &[[f32; 2]], mode: MaskMode) -> O
                 set(&mut mask.get_pixel_mut(x, y)[0], mode);
             }
             if xb > xa {
-                let r = PixelRect { x0: xa, y0: y, x1: xb, y1: y + 1 };
+                let r = PixelRect {
+                    x0: xa,
+                    y0: y,
+                    x1: xb,
+                    y1: y + 1,
+                };
                 touched = Some(touched.map_or(r, |t| t.union(&r)));
             }
         }
@@ -308,7 +358,13 @@ pub fn fill_polygon(mask: &mut GrayImage, pts: &[[f32; 2]], mode: MaskMode) -> O
 
 /// The connected (4-neighbour) area around `seed` whose colour is within
 /// `tolerance` of the seed's in every channel joins (or leaves) the region.
-pub fn wand(rgb: &RgbImage, mask: &mut GrayImage, seed: [f32; 2], tolerance: f32, mode: MaskMode) -> Option<PixelRect> {
+pub fn wand(
+    rgb: &RgbImage,
+    mask: &mut GrayImage,
+    seed: [f32; 2],
+    tolerance: f32,
+    mode: MaskMode,
+) -> Option<PixelRect> {
     let (w, h) = rgb.dimensions();
     if mask.dimensions() != (w, h) || !(seed[0] >= 0.0 && seed[1] >= 0.0) {
         return None;
@@ -320,15 +376,26 @@ pub fn wand(rgb: &RgbImage, mask: &mut GrayImage, seed: [f32; 2], tolerance: f32
     let raw = rgb.as_raw();
     let target = rgb.get_pixel(sx, sy).0;
     let tol = tolerance.clamp(0.0, 255.0);
-    let similar = |i: usize| (0..3).all(|c| (raw[i * 3 + c] as f32 - target[c] as f32).abs() <= tol);
+    let similar =
+        |i: usize| (0..3).all(|c| (raw[i * 3 + c] as f32 - target[c] as f32).abs() <= tol);
     let mut seen = vec![false; (w * h) as usize];
     let mut queue = VecDeque::from([(sx, sy)]);
     seen[(sy * w + sx) as usize] = true;
-    let mut rect = PixelRect { x0: sx, y0: sy, x1: sx + 1, y1: sy + 1 };
+    let mut rect = PixelRect {
+        x0: sx,
+        y0: sy,
+        x1: sx + 1,
+        y1: sy + 1,
+    };
     let m: &mut [u8] = mask;
     while let Some((x, y)) = queue.pop_front() {
         set(&mut m[(y * w + x) as usize], mode);
-        rect = rect.union(&PixelRect { x0: x, y0: y, x1: x + 1, y1: y + 1 });
+        rect = rect.union(&PixelRect {
+            x0: x,
+            y0: y,
+            x1: x + 1,
+            y1: y + 1,
+        });
         let mut visit = |nx: u32, ny: u32| {
             let i = (ny * w + nx) as usize;
             if !seen[i] && similar(i) {
@@ -381,7 +448,10 @@ pub fn detect_ledges(photo: &Photo, mask: Option<&GrayImage>) -> Vec<SourceLine>
     }
     // Analyse at most ~1000 px on the long side: ledges are large features.
     let s = (1000.0 / w.max(h) as f32).min(1.0);
-    let (aw, ah) = (((w as f32 * s).round() as u32).max(8), ((h as f32 * s).round() as u32).max(8));
+    let (aw, ah) = (
+        ((w as f32 * s).round() as u32).max(8),
+        ((h as f32 * s).round() as u32).max(8),
+    );
     let luma = DynamicImage::ImageLuma8(photo.image().to_luma8())
         .resize_exact(aw, ah, image::imageops::FilterType::Triangle)
         .to_luma32f();
@@ -441,7 +511,9 @@ pub fn detect_ledges(photo: &Photo, mask: Option<&GrayImage>) -> Vec<SourceLine>
     // ledge. Groups: (sum of y weighted by own pixels, own pixels, x0, x1, last y).
     let mut groups: Vec<(f32, u32, u32, u32, u32)> = Vec::new();
     for (y, x0, x1, own) in runs {
-        let hit = groups.iter().position(|g| y - g.4 <= 2 && x0 <= g.3 + 4 && x1 + 4 >= g.2);
+        let hit = groups
+            .iter()
+            .position(|g| y - g.4 <= 2 && x0 <= g.3 + 4 && x1 + 4 >= g.2);
         match hit {
             Some(i) => {
                 let g = &mut groups[i];
@@ -462,7 +534,11 @@ pub fn detect_ledges(photo: &Photo, mask: Option<&GrayImage>) -> Vec<SourceLine>
             vec![[x0 as f32 / s, y], [x1 as f32 / s, y]]
         })
         .collect();
-    lines.sort_by(|a, b| a[0][1].total_cmp(&b[0][1]).then(a[0][0].total_cmp(&b[0][0])));
+    lines.sort_by(|a, b| {
+        a[0][1]
+            .total_cmp(&b[0][1])
+            .then(a[0][0].total_cmp(&b[0][0]))
+    });
     lines.truncate(100);
     lines
 }
@@ -499,19 +575,50 @@ mod tests {
     fn rect_polygon_and_wand_fill_what_they_should() {
         let mut m = GrayImage::new(20, 20);
         let r = fill_rect(&mut m, [12.0, 15.0], [2.0, 5.0], MaskMode::Add).unwrap();
-        assert_eq!(r, PixelRect { x0: 2, y0: 5, x1: 12, y1: 15 });
+        assert_eq!(
+            r,
+            PixelRect {
+                x0: 2,
+                y0: 5,
+                x1: 12,
+                y1: 15
+            }
+        );
         assert_eq!(m.iter().filter(|&&v| v == 255).count(), 100);
         let mut p = GrayImage::new(20, 20);
-        fill_polygon(&mut p, &[[2.0, 2.0], [12.0, 2.0], [12.0, 12.0], [2.0, 12.0]], MaskMode::Add).unwrap();
+        fill_polygon(
+            &mut p,
+            &[[2.0, 2.0], [12.0, 2.0], [12.0, 12.0], [2.0, 12.0]],
+            MaskMode::Add,
+        )
+        .unwrap();
         assert_eq!(p.iter().filter(|&&v| v == 255).count(), 100);
-        fill_polygon(&mut p, &[[2.0, 2.0], [12.0, 2.0], [2.0, 12.0]], MaskMode::Subtract);
+        fill_polygon(
+            &mut p,
+            &[[2.0, 2.0], [12.0, 2.0], [2.0, 12.0]],
+            MaskMode::Subtract,
+        );
         assert_eq!(p.get_pixel(3, 3)[0], 0);
         assert_eq!(p.get_pixel(11, 11)[0], 255);
 
-        let rgb = RgbImage::from_fn(20, 20, |x, _| if x < 8 { image::Rgb([200, 10, 10]) } else { image::Rgb([10, 10, 200]) });
+        let rgb = RgbImage::from_fn(20, 20, |x, _| {
+            if x < 8 {
+                image::Rgb([200, 10, 10])
+            } else {
+                image::Rgb([10, 10, 200])
+            }
+        });
         let mut w = GrayImage::new(20, 20);
         let r = wand(&rgb, &mut w, [3.0, 3.0], 10.0, MaskMode::Add).unwrap();
-        assert_eq!(r, PixelRect { x0: 0, y0: 0, x1: 8, y1: 20 });
+        assert_eq!(
+            r,
+            PixelRect {
+                x0: 0,
+                y0: 0,
+                x1: 8,
+                y1: 20
+            }
+        );
         assert_eq!(w.iter().filter(|&&v| v == 255).count(), 160);
         assert!(wand(&rgb, &mut w, [-3.0, 3.0], 10.0, MaskMode::Add).is_none());
     }
@@ -539,9 +646,18 @@ mod tests {
             })
         };
         for s in &l.sills {
-            assert!(near(s.3 as f32 + 1.0, s.0, s.2), "sill {s:?} not in {found:?}");
+            assert!(
+                near(s.3 as f32 + 1.0, s.0, s.2),
+                "sill {s:?} not in {found:?}"
+            );
         }
-        assert!(near(l.cornice.1 as f32 + 1.0, 0, w), "cornice not in {found:?}");
-        assert!(found.len() <= 2 * (l.sills.len() + 1), "too many: {found:?}");
+        assert!(
+            near(l.cornice.1 as f32 + 1.0, 0, w),
+            "cornice not in {found:?}"
+        );
+        assert!(
+            found.len() <= 2 * (l.sills.len() + 1),
+            "too many: {found:?}"
+        );
     }
 }

@@ -7,6 +7,13 @@
 //! drops any reply whose id is not the newest: a slow, stale result can never
 //! overwrite a newer one. The thread calls the repaint callback whenever it
 //! has something to show, so the UI wakes up without polling.
+//!
+//! A job may also hand over early results before its final one
+//! ([`Worker::spawn_progressive`]): the preview shows a coarse pass first and
+//! refines it. Early results carry the job's id and are marked
+//! [`Done::partial`]; they follow the same rules (only the newest job's
+//! results are returned, in the order they were made), and the job stays
+//! busy, and cancellable, until its final result is in.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
@@ -30,6 +37,7 @@ struct Reply<R> {
     id: u64,
     result: Result<R>,
     elapsed: Duration,
+    partial: bool,
 }
 
 /// Where the running job is: its id, stage name and fraction done.
@@ -50,8 +58,12 @@ pub struct Done<R> {
     pub id: u64,
     /// What the job returned.
     pub result: Result<R>,
-    /// Wall time the job took on the worker thread.
+    /// Wall time the job took on the worker thread (for a partial result:
+    /// from the job's start to this result).
     pub elapsed: Duration,
+    /// True for an early result: the job goes on and its final result
+    /// follows (unless a newer job cancels it).
+    pub partial: bool,
 }
 
 /// One worker thread running jobs of type `J` that produce `R`.
@@ -70,7 +82,18 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
     pub fn spawn(
         name: &str,
         repaint: Repaint,
-        run: impl Fn(J, &Progress) -> Result<R> + Send + 'static,
+        mut run: impl FnMut(J, &Progress) -> Result<R> + Send + 'static,
+    ) -> Worker<J, R> {
+        Worker::spawn_progressive(name, repaint, move |job, progress, _| run(job, progress))
+    }
+
+    /// Like [`Worker::spawn`], but `run` may hand over early results through
+    /// its third argument before it returns the final one. Each arrives from
+    /// [`Worker::poll`] as a [`Done`] with `partial` set.
+    pub fn spawn_progressive(
+        name: &str,
+        repaint: Repaint,
+        mut run: impl FnMut(J, &Progress, &dyn Fn(R)) -> Result<R> + Send + 'static,
     ) -> Worker<J, R> {
         let (tx, job_rx) = mpsc::channel::<Job<J>>();
         let (reply_tx, rx) = mpsc::channel::<Reply<R>>();
@@ -89,6 +112,7 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
                             id: job.id,
                             result: Err(Error::Cancelled),
                             elapsed: Duration::ZERO,
+                            partial: false,
                         });
                         repaint();
                         continue;
@@ -97,7 +121,11 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
                     let last_repaint = Mutex::new(Instant::now());
                     let report = |stage: &str, fraction: f32| {
                         if let Ok(mut s) = thread_status.lock() {
-                            *s = Status { id, stage: stage.to_string(), fraction };
+                            *s = Status {
+                                id,
+                                stage: stage.to_string(),
+                                fraction,
+                            };
                         }
                         // Progress bars move at most ~30 times a second.
                         if let Ok(mut t) = last_repaint.lock()
@@ -109,9 +137,30 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
                     };
                     let start = Instant::now();
                     let progress = Progress::new(Some(&report), Some(&job.cancel));
-                    let result = run(job.input, &progress);
+                    let cancel = &job.cancel;
+                    let emit = |early: R| {
+                        // A cancelled job's early result would be dropped anyway.
+                        if !cancel.load(Ordering::Relaxed) {
+                            let _ = reply_tx.send(Reply {
+                                id,
+                                result: Ok(early),
+                                elapsed: start.elapsed(),
+                                partial: true,
+                            });
+                            repaint();
+                        }
+                    };
+                    let result = run(job.input, &progress, &emit);
                     let elapsed = start.elapsed();
-                    if reply_tx.send(Reply { id, result, elapsed }).is_err() {
+                    if reply_tx
+                        .send(Reply {
+                            id,
+                            result,
+                            elapsed,
+                            partial: false,
+                        })
+                        .is_err()
+                    {
                         break;
                     }
                     repaint();
@@ -135,10 +184,19 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
         let id = self.next_id;
         let cancel = Arc::new(AtomicBool::new(false));
         if let Ok(mut s) = self.status.lock() {
-            *s = Status { id, stage: "queued".into(), fraction: 0.0 };
+            *s = Status {
+                id,
+                stage: "queued".into(),
+                fraction: 0.0,
+            };
         }
         let sent = self.tx.as_ref().is_some_and(|tx| {
-            tx.send(Job { id, input, cancel: Arc::clone(&cancel) }).is_ok()
+            tx.send(Job {
+                id,
+                input,
+                cancel: Arc::clone(&cancel),
+            })
+            .is_ok()
         });
         if sent {
             self.pending = Some((id, cancel));
@@ -153,7 +211,8 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
         }
     }
 
-    /// True while the newest job has not replied yet.
+    /// True while the newest job's final result is not in yet (early results
+    /// do not end a job).
     pub fn is_busy(&self) -> bool {
         self.pending.is_some()
     }
@@ -168,22 +227,31 @@ impl<J: Send + 'static, R: Send + 'static> Worker<J, R> {
         self.status.lock().map(|s| s.clone()).unwrap_or_default()
     }
 
-    /// The newest job's reply, once it is in. Replies of older jobs are
-    /// dropped here, never returned.
+    /// The newest job's latest result, once one is in: an early (partial)
+    /// one while the job goes on, then its final one. Results of older jobs
+    /// are dropped here, never returned; when several of the newest job's
+    /// results are waiting, only the last is returned.
     pub fn poll(&mut self) -> Option<Done<R>> {
         let mut out = None;
         while let Ok(reply) = self.rx.try_recv() {
             let newest = self.pending.as_ref().is_some_and(|(id, _)| *id == reply.id);
             if newest {
-                self.pending = None;
-                out = Some(Done { id: reply.id, result: reply.result, elapsed: reply.elapsed });
+                if !reply.partial {
+                    self.pending = None;
+                }
+                out = Some(Done {
+                    id: reply.id,
+                    result: reply.result,
+                    elapsed: reply.elapsed,
+                    partial: reply.partial,
+                });
             }
         }
         out
     }
 
-    /// Blocks until the newest job has replied or `timeout` passes (for tests
-    /// and scripted runs; the UI uses [`Worker::poll`]).
+    /// Blocks until the newest job has a result (early or final) or `timeout`
+    /// passes (for tests and scripted runs; the UI uses [`Worker::poll`]).
     pub fn wait(&mut self, timeout: Duration) -> Option<Done<R>> {
         let deadline = Instant::now() + timeout;
         loop {
@@ -228,16 +296,14 @@ mod tests {
     #[test]
     fn a_new_job_cancels_the_running_one() {
         let mut w: Worker<u32, u32> = Worker::spawn("test", no_repaint(), |n, p| {
-            if n == 0 {
-                endless(n, p)
-            } else {
-                Ok(n * 10)
-            }
+            if n == 0 { endless(n, p) } else { Ok(n * 10) }
         });
         w.submit(0);
         std::thread::sleep(Duration::from_millis(30));
         let second = w.submit(7);
-        let done = w.wait(Duration::from_secs(10)).expect("second job finishes");
+        let done = w
+            .wait(Duration::from_secs(10))
+            .expect("second job finishes");
         assert_eq!(done.id, second);
         assert_eq!(done.result.unwrap(), 70);
         assert!(!w.is_busy());
@@ -262,8 +328,15 @@ mod tests {
         let start = Instant::now();
         w.submit(false);
         let done = w.wait(Duration::from_secs(20)).expect("the short job runs");
-        assert!(!done.result.unwrap(), "only the newest job's reply is returned");
-        assert!(start.elapsed() < Duration::from_secs(3), "the long run stopped in {:?}", start.elapsed());
+        assert!(
+            !done.result.unwrap(),
+            "only the newest job's reply is returned"
+        );
+        assert!(
+            start.elapsed() < Duration::from_secs(3),
+            "the long run stopped in {:?}",
+            start.elapsed()
+        );
     }
 
     #[test]
@@ -284,7 +357,11 @@ mod tests {
         flag.store(true, Ordering::Relaxed);
         let (r, _) = handle.join().unwrap();
         assert!(matches!(r, Err(Error::Cancelled)), "{r:?}");
-        assert!(cancelled_at.elapsed() < Duration::from_secs(2), "stopped in {:?}", cancelled_at.elapsed());
+        assert!(
+            cancelled_at.elapsed() < Duration::from_secs(2),
+            "stopped in {:?}",
+            cancelled_at.elapsed()
+        );
     }
 
     #[test]
@@ -317,6 +394,117 @@ mod tests {
         assert_eq!(seen, vec![(second, 2)]);
         // And nothing else turns up later.
         std::thread::sleep(Duration::from_millis(200));
+        assert!(w.poll().is_none());
+    }
+
+    /// Polls until the worker is idle, collecting (id, partial, value).
+    fn collect(w: &mut Worker<u32, u32>) -> Vec<(u64, bool, u32)> {
+        let deadline = Instant::now() + Duration::from_secs(20);
+        let mut seen = Vec::new();
+        while Instant::now() < deadline {
+            if let Some(d) = w.poll() {
+                seen.push((d.id, d.partial, d.result.unwrap()));
+            }
+            if !w.is_busy() {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        seen
+    }
+
+    #[test]
+    fn quick_result_then_full_result_arrive_in_order() {
+        // The job hands over its quick pass, then waits for the test's go
+        // before finishing its full pass.
+        let (go_tx, go_rx) = mpsc::channel::<()>();
+        let mut w: Worker<u32, u32> =
+            Worker::spawn_progressive("test", no_repaint(), move |n, p, emit| {
+                emit(n);
+                go_rx.recv().map_err(|_| Error::Cancelled)?;
+                p.check()?;
+                Ok(n * 10)
+            });
+        let id = w.submit(4);
+        let quick = w.wait(Duration::from_secs(10)).expect("the quick pass");
+        assert_eq!((quick.id, quick.partial), (id, true));
+        assert_eq!(quick.result.unwrap(), 4);
+        assert!(w.is_busy(), "the full pass is still to come");
+        assert!(w.poll().is_none());
+        go_tx.send(()).unwrap();
+        let full = w.wait(Duration::from_secs(10)).expect("the full pass");
+        assert_eq!((full.id, full.partial), (id, false));
+        assert_eq!(full.result.unwrap(), 40);
+        assert!(!w.is_busy());
+        assert!(w.poll().is_none());
+    }
+
+    #[test]
+    fn a_new_job_cancels_the_pending_full_pass() {
+        // Job 0 hands over its quick pass, then runs a full pass until it is
+        // cancelled; job 7 is quick in both passes.
+        let cancelled = Arc::new(AtomicUsize::new(0));
+        let c2 = Arc::clone(&cancelled);
+        let mut w: Worker<u32, u32> =
+            Worker::spawn_progressive("test", no_repaint(), move |n, p, emit| {
+                emit(n + 1);
+                if n == 0 {
+                    let r = endless(n, p);
+                    if matches!(r, Err(Error::Cancelled)) {
+                        c2.fetch_add(1, Ordering::SeqCst);
+                    }
+                    return r;
+                }
+                Ok(n * 10)
+            });
+        let first = w.submit(0);
+        let quick = w.wait(Duration::from_secs(10)).expect("quick pass of job 0");
+        assert_eq!((quick.id, quick.partial, quick.result.unwrap()), (first, true, 1));
+        std::thread::sleep(Duration::from_millis(20));
+        assert!(w.is_busy(), "job 0's full pass runs");
+        let start = Instant::now();
+        let second = w.submit(7);
+        let seen = collect(&mut w);
+        assert!(start.elapsed() < Duration::from_secs(3), "{:?}", start.elapsed());
+        assert_eq!(cancelled.load(Ordering::SeqCst), 1, "job 0's full pass stopped");
+        // Only job 7's results, the final one last (the quick one may have
+        // been overtaken by the final one between two polls).
+        assert!(seen.iter().all(|&(id, _, _)| id == second), "{seen:?}");
+        assert_eq!(seen.last(), Some(&(second, false, 70)), "{seen:?}");
+        if seen.len() == 2 {
+            assert_eq!(seen[0], (second, true, 8));
+        }
+        std::thread::sleep(Duration::from_millis(50));
+        assert!(w.poll().is_none());
+    }
+
+    #[test]
+    fn a_stale_quick_result_never_shows() {
+        // Job 1 ignores its cancel flag: it finishes its quick pass after
+        // job 2 was submitted; neither its quick nor its full result shows.
+        let started = Arc::new(AtomicUsize::new(0));
+        let s2 = Arc::clone(&started);
+        let mut w: Worker<u32, u32> =
+            Worker::spawn_progressive("test", no_repaint(), move |n, _, emit| {
+                s2.fetch_add(1, Ordering::SeqCst);
+                if n == 1 {
+                    std::thread::sleep(Duration::from_millis(100));
+                }
+                emit(n);
+                if n == 1 {
+                    std::thread::sleep(Duration::from_millis(100));
+                }
+                Ok(n * 10)
+            });
+        w.submit(1);
+        while started.load(Ordering::SeqCst) == 0 {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let second = w.submit(2);
+        let seen = collect(&mut w);
+        assert!(seen.iter().all(|&(id, _, _)| id == second), "{seen:?}");
+        assert_eq!(seen.last(), Some(&(second, false, 20)));
+        std::thread::sleep(Duration::from_millis(50));
         assert!(w.poll().is_none());
     }
 

@@ -257,7 +257,7 @@ impl Default for MossParams {
     fn default() -> Self {
         MossParams {
             enabled: true,
-            years: 10,
+            years: 15,
             gamma: 1.5,
             humidity: 0.5,
             color: MossColor::YellowGreen,
@@ -267,11 +267,11 @@ impl Default for MossParams {
             iterations: 3,
             peak: 0.45,
             dot_size: 0.03,
-            seed_rate: 0.5,
-            spread: 0.6,
+            seed_rate: 1.0,
+            spread: 0.8,
             spread_distance: 0.8,
             size_spread: 0.5,
-            maturity: 6.0,
+            maturity: 4.0,
         }
     }
 }
@@ -382,7 +382,7 @@ impl Default for DustParams {
             film_weights: [1.0, 0.8, 0.6],
             anp_max: 1.2,
             granule_color: [220, 220, 220],
-            granule_size: 24.0,
+            granule_size: 12.0,
             arc_share: 0.3,
             clump_share: 0.4,
             hair_share: 0.3,
@@ -425,6 +425,14 @@ impl Preset {
     /// # Errors
     /// [`Error::OutOfRange`] naming the first offending field and its range.
     pub fn validate(&self) -> Result<()> {
+        // TOML integers are i64: a larger seed could not be saved as a preset.
+        if self.seed > i64::MAX as u64 {
+            return Err(Error::OutOfRange {
+                field: "seed".into(),
+                value: self.seed.to_string(),
+                range: format!("0 ..= {}", i64::MAX),
+            });
+        }
         let value = toml::Value::try_from(self).map_err(|e| Error::Preset(e.to_string()))?;
         for spec in PARAMS {
             let keys: Vec<&str> = spec.path.split('.').collect();
@@ -526,16 +534,19 @@ impl Preset {
             .and_then(|mut t| t.remove("v"))
             .unwrap_or_else(|| toml::Value::String(raw.to_string()));
         let mut value = toml::Value::try_from(&*self).map_err(|e| Error::Preset(e.to_string()))?;
-        let slot = lookup_mut(&mut value, key)
-            .ok_or_else(|| Error::Preset(format!("--set: unknown field {key:?}; see `grime preset default`")))?;
+        let slot = lookup_mut(&mut value, key).ok_or_else(|| {
+            Error::Preset(format!(
+                "--set: unknown field {key:?}; see `grime preset default`"
+            ))
+        })?;
         // Keep floats floats: `--set rain.k_a=1` means 1.0.
         *slot = match (&*slot, parsed) {
             (toml::Value::Float(_), toml::Value::Integer(i)) => toml::Value::Float(i as f64),
             (_, p) => p,
         };
-        let next: Preset = value
-            .try_into()
-            .map_err(|e: toml::de::Error| Error::Preset(format!("--set {key}: {}", one_line(&e))))?;
+        let next: Preset = value.try_into().map_err(|e: toml::de::Error| {
+            Error::Preset(format!("--set {key}: {}", one_line(&e)))
+        })?;
         next.validate()?;
         *self = next;
         Ok(())
@@ -606,14 +617,20 @@ fn lookup_mut<'a>(v: &'a mut toml::Value, path: &str) -> Option<&'a mut toml::Va
 }
 
 fn one_line(e: &impl std::fmt::Display) -> String {
-    e.to_string().split_whitespace().collect::<Vec<_>>().join(" ")
+    e.to_string()
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// Built-in presets, by name: what `grime preset NAME` prints and
 /// `--preset NAME` loads.
 pub const BUILTIN: &[(&str, &str)] = &[
     ("default", "the defaults: 12 rainfalls"),
-    ("chang-table1", "the paper's Table 1 values (k_S 0.7, k_a 0.5, 600 droplets, r 100)"),
+    (
+        "chang-table1",
+        "the paper's Table 1 values (k_S 0.7, k_a 0.5, 600 droplets, r 100)",
+    ),
     ("light-rain", "4 rainfalls, a recently weathered wall"),
     ("heavy-rain", "20 rainfalls, wetter and dirtier"),
 ];

@@ -15,7 +15,13 @@ pub struct ParamSpec {
     pub max: f64,
 }
 
-const fn p(path: &'static str, symbol: &'static str, doc: &'static str, min: f64, max: f64) -> ParamSpec {
+const fn p(
+    path: &'static str,
+    symbol: &'static str,
+    doc: &'static str,
+    min: f64,
+    max: f64,
+) -> ParamSpec {
     ParamSpec {
         path,
         symbol,
@@ -33,7 +39,7 @@ pub const PARAMS: &[ParamSpec] = &[
         "",
         "Master random seed; the same seed gives byte-identical output",
         0.0,
-        u64::MAX as f64,
+        i64::MAX as f64,
     ),
     p(
         "sim.max_side",

@@ -27,6 +27,7 @@ use serde::Serialize;
 
 use crate::effects::region::Region;
 use crate::error::{Error, Result};
+use crate::grid::WALL;
 use crate::preset::{DustParams, Segment};
 use crate::progress::Progress;
 
@@ -53,7 +54,11 @@ pub fn cumulative(segments: &[Segment], area: f64, t: u32) -> f64 {
     let mut start = 1u64;
     for (i, s) in segments.iter().enumerate() {
         let last = i + 1 == segments.len();
-        let end = if last || s.days == 0 { u64::MAX } else { start + s.days as u64 - 1 };
+        let end = if last || s.days == 0 {
+            u64::MAX
+        } else {
+            start + s.days as u64 - 1
+        };
         if (t as u64) < start {
             break;
         }
@@ -98,7 +103,11 @@ pub(crate) fn tasks(segments: &[Segment], area: f64, from: u32, to: u32) -> Vec<
     for day in from.max(1)..=to {
         let n = added_on_day(segments, area, day);
         for chunk in 0..n.div_ceil(CHUNK) {
-            out.push(Task { day, chunk, count: CHUNK.min(n - chunk * CHUNK) });
+            out.push(Task {
+                day,
+                chunk,
+                count: CHUNK.min(n - chunk * CHUNK),
+            });
         }
     }
     out
@@ -151,7 +160,11 @@ impl<'r> DustState<'r> {
     /// [`Error::OutOfRange`] for a non-positive `ppi`.
     pub fn new(region: &'r Region<'r>, p: &DustParams, seed: u64) -> Result<DustState<'r>> {
         if !(p.ppi.is_finite() && p.ppi > 0.0) {
-            return Err(Error::OutOfRange { field: "dust.ppi".into(), value: p.ppi.to_string(), range: "above 0".into() });
+            return Err(Error::OutOfRange {
+                field: "dust.ppi".into(),
+                value: p.ppi.to_string(),
+                range: "above 0".into(),
+            });
         }
         let (film_rate, mask_rate) = p.segments();
         let area_in2 = region.area() as f64 / (p.ppi * p.ppi);
@@ -164,7 +177,10 @@ impl<'r> DustState<'r> {
             film: film::Film::new(region.width(), region.height()),
             mask: granules::Mask::new(region.width(), region.height()),
             day: 0,
-            stats: DustStats { area_in2, ..DustStats::default() },
+            stats: DustStats {
+                area_in2,
+                ..DustStats::default()
+            },
         })
     }
 
@@ -186,9 +202,13 @@ impl<'r> DustState<'r> {
         let film_tasks = tasks(&self.film_rate, self.area_in2, self.day + 1, day);
         let mask_tasks = tasks(&self.mask_rate, self.area_in2, self.day + 1, day);
         let looks = granules::Looks::new(p);
-        self.stats.film_particles += self.film.place(self.region, &film_tasks, self.seed, progress)?;
+        self.stats.film_particles +=
+            self.film
+                .place(self.region, &film_tasks, self.seed, progress)?;
         progress.update("dust", 0.5);
-        let [arcs, clumps, hairs] = self.mask.place(self.region, &mask_tasks, &looks, self.seed, progress)?;
+        let [arcs, clumps, hairs] =
+            self.mask
+                .place(self.region, &mask_tasks, &looks, self.seed, progress)?;
         self.stats.arcs += arcs;
         self.stats.clumps += clumps;
         self.stats.hairs += hairs;
@@ -205,8 +225,12 @@ impl<'r> DustState<'r> {
     /// alpha (colour `p.granule_color`) and the numbers.
     ///
     /// # Errors
-    /// [`Error::MaskSize`] for a normal map of the wrong size.
-    pub fn render(&self, p: &DustParams, normals: Option<&RgbImage>) -> Result<(RgbaImage, GrayImage, DustStats)> {
+    /// [`Error::NormalMapSize`] for a normal map of the wrong size.
+    pub fn render(
+        &self,
+        p: &DustParams,
+        normals: Option<&RgbImage>,
+    ) -> Result<(RgbaImage, GrayImage, DustStats)> {
         let (w, h) = (self.region.width(), self.region.height());
         let shading = shade::Shading::new(p.theta_v, p.theta_i, normals, w, h)?;
         let look = film::Look::new(p);
@@ -218,16 +242,17 @@ impl<'r> DustState<'r> {
             .enumerate()
             .map(|(y, (film_row, gran_row))| {
                 let y = y as u32;
-                let mut weight = vec![0.0; w as usize];
                 let mut factors = vec![shade::Factors::default(); w as usize];
-                self.region.weights(y, &mut weight);
                 shading.row(y, &mut factors);
+                let mask = self.region.mask_row(y);
+                let counts = self.film.row(y).chunks_exact(film::COLORS);
                 let (mut f_px, mut g_px) = (0u64, 0u64);
-                for x in 0..w as usize {
-                    let wt = weight[x];
-                    let wall = self.region.contains(x as f32, y as f32);
-                    let (color, ro) = self.film.pixel(x as u32, y, &look);
-                    let covered = self.mask.get(x as u32, y);
+                for (x, (counts, covered)) in counts.zip(self.mask.row(y)).enumerate() {
+                    let (wall, wt) = match mask {
+                        None => (true, 1.0),
+                        Some(m) => (m[x] >= WALL, m[x] as f32 / 255.0),
+                    };
+                    let (color, ro) = look.shade(counts);
                     if wall {
                         f_px += (ro > 0.0) as u64;
                         g_px += covered as u64;
@@ -242,7 +267,12 @@ impl<'r> DustState<'r> {
                         // pixels; with C_op = u RO as premultiplied colour the
                         // over operator gives C_op V L + M (1 - RO V L)].
                         let a = ro * f.film * wt;
-                        film_row[x * 4..x * 4 + 4].copy_from_slice(&[color, color, color, to_u8(a)]);
+                        film_row[x * 4..x * 4 + 4].copy_from_slice(&[
+                            color,
+                            color,
+                            color,
+                            to_u8(a),
+                        ]);
                     }
                     if covered {
                         // Santos eq. (10): C = C_g L + M (1 - L), alpha L.
@@ -260,15 +290,16 @@ impl<'r> DustState<'r> {
     }
 }
 
+/// Alpha in 0..1 to 0..255, rounded (without a libm call).
 fn to_u8(a: f32) -> u8 {
-    (a * 255.0).round().clamp(0.0, 255.0) as u8
+    (a * 255.0 + 0.5).clamp(0.0, 255.0) as u8
 }
 
 /// Dust after `p.days` days: the film layer (straight-alpha RGBA), the
 /// granules' alpha and the numbers.
 ///
 /// # Errors
-/// [`Error::Cancelled`] when cancelled, [`Error::MaskSize`] for a normal map
+/// [`Error::Cancelled`] when cancelled, [`Error::NormalMapSize`] for a normal map
 /// of the wrong size, [`Error::OutOfRange`] for a bad `ppi`.
 pub fn accumulate(
     region: &Region,
@@ -308,11 +339,21 @@ mod tests {
     fn piecewise_segments_switch_rate_after_their_days() {
         let (film, _) = DustEnvironment::SteepStart.segments().unwrap();
         let area = 100.0;
-        assert_eq!(added_on_day(&film, area, 1), ((11.1 + 5.1) * area).round() as u64);
+        assert_eq!(
+            added_on_day(&film, area, 1),
+            ((11.1 + 5.1) * area).round() as u64
+        );
         assert_eq!(added_on_day(&film, area, 5), (11.1 * area) as u64);
-        assert_eq!(added_on_day(&film, area, 6), (2.8 * area) as u64, "the second segment's beta is 0");
+        assert_eq!(
+            added_on_day(&film, area, 6),
+            (2.8 * area) as u64,
+            "the second segment's beta is 0"
+        );
         assert_eq!(added_on_day(&film, area, 400), (2.8 * area) as u64);
         let tasks = tasks(&film, area, 1, 3);
-        assert_eq!(tasks.iter().map(|t| t.count).sum::<u64>(), total(&film, area, 3));
+        assert_eq!(
+            tasks.iter().map(|t| t.count).sum::<u64>(),
+            total(&film, area, 3)
+        );
     }
 }

@@ -52,17 +52,34 @@ impl<'a> Shading<'a> {
     /// normal map.
     ///
     /// # Errors
-    /// [`Error::MaskSize`] when the normal map has another size.
-    pub fn new(theta_v: f32, theta_i: f32, normals: Option<&'a RgbImage>, width: u32, height: u32) -> Result<Self> {
+    /// [`Error::NormalMapSize`] when the normal map has another size.
+    pub fn new(
+        theta_v: f32,
+        theta_i: f32,
+        normals: Option<&'a RgbImage>,
+        width: u32,
+        height: u32,
+    ) -> Result<Self> {
         if let Some(n) = normals
             && n.dimensions() != (width, height)
         {
-            return Err(Error::MaskSize { mask_w: n.width(), mask_h: n.height(), img_w: width, img_h: height });
+            return Err(Error::NormalMapSize {
+                map_w: n.width(),
+                map_h: n.height(),
+                img_w: width,
+                img_h: height,
+            });
         }
         let (v, l) = (view_factor(theta_v), light_factor(theta_i));
-        let (tv, ti) = (theta_v.clamp(0.0, 90.0).to_radians(), theta_i.clamp(0.0, 90.0).to_radians());
+        let (tv, ti) = (
+            theta_v.clamp(0.0, 90.0).to_radians(),
+            theta_i.clamp(0.0, 90.0).to_radians(),
+        );
         Ok(Shading {
-            flat: Factors { film: v * l, granule: l },
+            flat: Factors {
+                film: v * l,
+                granule: l,
+            },
             normals,
             view: [0.0, -tv.sin(), tv.cos()],
             light: [0.0, ti.sin(), ti.cos()],
@@ -75,7 +92,10 @@ impl<'a> Shading<'a> {
         let v = 1.0 - dot(self.view); // eq. (8)
         let l = 1.0 - 0.5 * dot(self.light); // eq. (9)
         let z_m = (1.0 + n[1]).clamp(0.0, 1.0);
-        Factors { film: v * l * z_m, granule: l * z_m }
+        Factors {
+            film: v * l * z_m,
+            granule: l * z_m,
+        }
     }
 
     /// Factors of row `y`, written to `out` (length = width).
@@ -89,7 +109,11 @@ impl<'a> Shading<'a> {
         for (o, px) in out.iter_mut().zip(row.chunks_exact(3)) {
             let n = [0, 1, 2].map(|k| px[k] as f32 / 127.5 - 1.0);
             let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            *o = if len > 1e-3 { self.at_normal([n[0] / len, n[1] / len, n[2] / len]) } else { self.flat };
+            *o = if len > 1e-3 {
+                self.at_normal([n[0] / len, n[1] / len, n[2] / len])
+            } else {
+                self.flat
+            };
         }
     }
 }
@@ -115,9 +139,17 @@ mod tests {
     fn flat_normals_reproduce_the_global_angles_and_soffits_lose_dust() {
         let s = Shading::new(60.0, 30.0, None, 1, 1).unwrap();
         let flat = s.at_normal([0.0, 0.0, 1.0]);
-        assert!((flat.film - s.flat.film).abs() < 1e-6 && (flat.granule - s.flat.granule).abs() < 1e-6);
+        assert!(
+            (flat.film - s.flat.film).abs() < 1e-6 && (flat.granule - s.flat.granule).abs() < 1e-6
+        );
         let down = s.at_normal([0.0, -1.0, 0.0]);
-        assert_eq!(down, Factors { film: 0.0, granule: 0.0 });
+        assert_eq!(
+            down,
+            Factors {
+                film: 0.0,
+                granule: 0.0
+            }
+        );
         let map = RgbImage::from_pixel(2, 1, image::Rgb([128, 128, 255]));
         let sm = Shading::new(60.0, 30.0, Some(&map), 2, 1).unwrap();
         let mut row = [Factors::default(); 2];
