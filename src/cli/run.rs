@@ -86,7 +86,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         let normals = io::load_photo(path)?.into_image().to_rgb8();
         scene = scene
             .with_normals(normals)
-            .with_context(|| format!("{}: normal map", path.display()))?;
+            .with_context(|| path.display().to_string())?;
     }
 
     let bar = progress_bar(

@@ -28,7 +28,9 @@ use super::canvas::{Canvas, CanvasInput};
 use super::command::{Command, MaskShape, PromptKind};
 use super::history::{Edit, History, MaskPatch, Touched};
 use super::panels::{self, LayerRow};
-use super::render::{self, ExportJob, Exported, PROXY_PIXELS, Preview, PreviewJob, Proxy};
+use super::render::{
+    self, ExportJob, Exported, PROXY_PIXELS, Preview, PreviewJob, Previewer, Proxy,
+};
 use super::state::{Document, ImageSource, LayerSetting};
 use super::tools::{self, MaskMode, PixelRect, Tool, ToolSettings};
 use super::worker::{Repaint, Worker};
@@ -107,11 +109,18 @@ struct PreviewState {
     /// The preset and layer settings `current` is styled with.
     styled: Option<(Preset, BTreeMap<String, LayerSetting>)>,
     running: Option<Running>,
+    /// `current` is the quick pass of the running job; its full pass follows.
+    shown_quick: bool,
     dirty: bool,
     /// When the change the preview is catching up with was made.
     changed_at: Option<Instant>,
-    /// Change-to-preview time of the last update, ms.
+    /// The same, once the quick pass showed, until the full pass does.
+    refine_from: Option<Instant>,
+    /// Change-to-preview time of the last update (the quick pass for a new
+    /// simulation), ms.
     latency_ms: Option<f64>,
+    /// Change-to-refined-preview time of the last simulation, ms.
+    refined_ms: Option<f64>,
     /// Simulation time of the last preview, ms.
     sim_ms: Option<f64>,
 }
@@ -193,16 +202,26 @@ impl GrimeApp {
             tools: ToolSettings::default(),
             canvas: Canvas::default(),
             preview: PreviewState {
-                worker: Worker::spawn("grime-preview", Arc::clone(&repaint), render::simulate),
+                worker: {
+                    let mut previewer = Previewer::default();
+                    Worker::spawn_progressive(
+                        "grime-preview",
+                        Arc::clone(&repaint),
+                        move |job, progress, emit| previewer.run(job, progress, emit),
+                    )
+                },
                 current: None,
                 sim_rev: 0,
                 sim_preset: Preset::default(),
                 sim_failed: false,
                 styled: None,
                 running: None,
+                shown_quick: false,
                 dirty: false,
                 changed_at: None,
+                refine_from: None,
                 latency_ms: None,
+                refined_ms: None,
                 sim_ms: None,
             },
             export: ExportState {
@@ -240,7 +259,13 @@ impl GrimeApp {
 
     /// The current preview composite (proxy-sized), if one is ready.
     pub fn preview_image(&self) -> Option<&ColorImage> {
-        self.preview.current.as_ref().map(|p| &p.image)
+        self.preview.current.as_ref().map(|p| &*p.image)
+    }
+
+    /// True while the canvas shows the quick pass of a simulation and the
+    /// full pass is still running.
+    pub fn is_refining(&self) -> bool {
+        self.preview.shown_quick && self.preview.running.is_some()
     }
 
     /// The proxy photo as an image, for comparisons.
@@ -273,9 +298,15 @@ impl GrimeApp {
         self.export.last.as_ref()
     }
 
-    /// Change-to-preview time of the last preview update, ms.
+    /// Change-to-preview time of the last preview update, ms (for a new
+    /// simulation: until its quick pass showed).
     pub fn preview_latency_ms(&self) -> Option<f64> {
         self.preview.latency_ms
+    }
+
+    /// Change-to-refined-preview time of the last simulation, ms.
+    pub fn preview_refined_ms(&self) -> Option<f64> {
+        self.preview.refined_ms
     }
 
     /// Queues a command as if a widget had emitted it.
@@ -336,6 +367,22 @@ impl GrimeApp {
 
     fn poll_workers(&mut self) {
         if let Some(done) = self.preview.worker.poll() {
+            if done.partial {
+                // The quick pass: show it; the running job goes on.
+                if let Ok(p) = done.result {
+                    self.preview.styled = self
+                        .preview
+                        .running
+                        .as_ref()
+                        .map(|r| (r.preset.clone(), r.layers.clone()));
+                    self.preview.shown_quick = true;
+                    self.set_preview(Some(p), true);
+                    // Restyle it if the document moved on by a restyle-only change.
+                    self.preview.dirty = true;
+                }
+                return self.poll_export();
+            }
+            self.preview.shown_quick = false;
             let running = self.preview.running.take();
             let ok = done.result.is_ok();
             if let Some(r) = &running {
@@ -347,7 +394,7 @@ impl GrimeApp {
                 Ok(p) => {
                     self.preview.styled = running.map(|r| (r.preset, r.layers));
                     self.preview.sim_ms = Some(done.elapsed.as_secs_f64() * 1000.0);
-                    self.set_preview(Some(p));
+                    self.set_preview(Some(p), true);
                     if self
                         .message
                         .as_ref()
@@ -358,13 +405,17 @@ impl GrimeApp {
                 }
                 Err(e) => {
                     self.preview.styled = None;
-                    self.set_preview(None);
+                    self.set_preview(None, false);
                     self.error(format!("preview: {e}"));
                 }
             }
             // The document may have moved on while it ran.
             self.preview.dirty = true;
         }
+        self.poll_export();
+    }
+
+    fn poll_export(&mut self) {
         if let Some(done) = self.export.worker.poll() {
             self.export.running = None;
             match done.result {
@@ -388,14 +439,18 @@ impl GrimeApp {
         }
     }
 
-    fn set_preview(&mut self, p: Option<Preview>) {
+    /// Shows `p`; `sim` when it comes from the worker (a quick or full pass),
+    /// not from a re-composite.
+    fn set_preview(&mut self, p: Option<Preview>, sim: bool) {
+        let quick = p.as_ref().is_some_and(|p| p.quick);
         match &p {
+            // The texture shares the image (no copy).
             Some(p) => match &mut self.textures.preview {
-                Some(t) => t.set(p.image.clone(), TextureOptions::LINEAR),
+                Some(t) => t.set(Arc::clone(&p.image), TextureOptions::LINEAR),
                 None => {
                     self.textures.preview = Some(self.ctx.load_texture(
                         "preview",
-                        p.image.clone(),
+                        Arc::clone(&p.image),
                         TextureOptions::LINEAR,
                     ))
                 }
@@ -403,8 +458,18 @@ impl GrimeApp {
             None => self.textures.preview = None,
         }
         self.preview.current = p;
-        if let Some(t) = self.preview.changed_at.take() {
-            self.preview.latency_ms = Some(t.elapsed().as_secs_f64() * 1000.0);
+        let ms = |t: Instant| Some(t.elapsed().as_secs_f64() * 1000.0);
+        let pv = &mut self.preview;
+        let changed = pv.changed_at.take();
+        if let Some(t) = changed {
+            pv.latency_ms = ms(t);
+        }
+        if sim && quick {
+            if let Some(t) = changed {
+                pv.refine_from.get_or_insert(t);
+            }
+        } else if sim && let Some(t) = pv.refine_from.take().or(changed) {
+            pv.refined_ms = ms(t);
         }
     }
 
@@ -456,6 +521,8 @@ impl GrimeApp {
             {
                 Ok(job) => {
                     self.preview.worker.submit(job);
+                    self.preview.shown_quick = false;
+                    self.preview.refine_from = None;
                     self.preview.running = Some(Running {
                         rev: l.rev,
                         preset: doc.preset.clone(),
@@ -464,11 +531,13 @@ impl GrimeApp {
                 }
                 Err(e) => self.error(format!("preview: {e}")),
             }
-        } else if self.preview.running.is_none() && !styled {
+        } else if (self.preview.running.is_none() || self.preview.shown_quick) && !styled {
+            // Also while the full pass runs: the quick pass shown follows at
+            // once, the full one is restyled when it arrives.
             if let Some(mut cur) = self.preview.current.take() {
                 cur.restyle(&doc.preset, &doc.layers);
                 self.preview.styled = Some((doc.preset.clone(), doc.layers.clone()));
-                self.set_preview(Some(cur));
+                self.set_preview(Some(cur), false);
             }
         } else if self.preview.running.is_none() {
             self.preview.changed_at = None;
@@ -852,13 +921,34 @@ impl GrimeApp {
             if self.preview.running.is_some() {
                 let s = self.preview.worker.status();
                 ui.spinner();
+                // The quick pass is shown while the full one runs.
+                let (label, tip) = if self.is_refining() {
+                    (
+                        "refining…",
+                        "A quick pass on a coarse grid is shown; the full detail follows",
+                    )
+                } else {
+                    ("preview", "Computing the preview")
+                };
                 ui.add(
                     egui::ProgressBar::new(s.fraction)
                         .desired_width(160.0)
-                        .text(format!("preview: {}", s.stage)),
-                );
+                        .text(format!("{label}: {}", s.stage)),
+                )
+                .on_hover_text(tip);
+                if self.is_refining()
+                    && let Some(ms) = self.preview.latency_ms
+                {
+                    ui.weak(format!("preview {ms:.0} ms"));
+                }
             } else if let Some(ms) = self.preview.latency_ms.or(self.preview.sim_ms) {
-                ui.weak(format!("preview {ms:.0} ms"));
+                let text = match self.preview.refined_ms {
+                    Some(r) if r > ms + 1.0 => format!("preview {ms:.0} ms · refined {r:.0} ms"),
+                    _ => format!("preview {ms:.0} ms"),
+                };
+                ui.weak(text).on_hover_text(
+                    "Change to preview: the quick pass, then the full detail (refined)",
+                );
             }
             if let Some(path) = &self.export.running {
                 let s = self.export.worker.status();
@@ -1087,6 +1177,7 @@ impl GrimeApp {
         self.preview.sim_failed = false;
         self.preview.worker.cancel();
         self.preview.running = None;
+        self.preview.shown_quick = false;
         self.preview.dirty = true;
         self.preview.changed_at = Some(Instant::now());
         let rev = self.loaded.as_ref().map_or(1, |l| l.rev + 1);
@@ -1594,6 +1685,73 @@ impl eframe::App for GrimeApp {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_simulation_shows_a_quick_pass_then_refines() {
+        use egui_kittest::Harness;
+        let mut h = Harness::builder()
+            .with_size(egui::vec2(1280.0, 800.0))
+            .build_ui_state(
+                |ui, app: &mut GrimeApp| app.show(ui),
+                GrimeApp::new(AppOptions {
+                    demo: Some("facade".into()),
+                    ..AppOptions::default()
+                }),
+            );
+        let step_until =
+            |h: &mut Harness<'_, GrimeApp>, what: &str, f: &dyn Fn(&GrimeApp) -> bool| {
+                let start = Instant::now();
+                while !f(h.state()) {
+                    assert!(start.elapsed() < Duration::from_secs(300), "never: {what}");
+                    h.step();
+                    std::thread::sleep(Duration::from_millis(2));
+                }
+            };
+        step_until(&mut h, "first preview", &|a| {
+            a.preview_image().is_some() && !a.is_busy()
+        });
+        // A simulation parameter: the quick pass shows first (the default
+        // preset's full pass takes far longer than a frame).
+        h.state_mut().push(Command::SetParam {
+            path: "rain.k_a".into(),
+            value: "0.7".into(),
+            merge: false,
+        });
+        h.step();
+        assert!(h.state().is_busy() && !h.state().is_refining());
+        step_until(&mut h, "the quick pass", &|a| a.is_refining());
+        let quick = h.state().preview.current.as_ref().unwrap().clone();
+        assert!(quick.quick);
+        assert_eq!(quick.sim_preset.sim.max_side, render::QUICK_MAX_SIDE);
+        // A restyle-only change follows on the quick pass at once.
+        h.state_mut().push(Command::SetParam {
+            path: "stain.opacity".into(),
+            value: "0.3".into(),
+            merge: false,
+        });
+        h.step();
+        if h.state().is_refining() {
+            assert_ne!(h.state().preview_image().unwrap(), &*quick.image);
+        }
+        step_until(&mut h, "the full pass", &|a| !a.is_busy());
+        let full = h.state().preview.current.as_ref().unwrap();
+        assert!(!full.quick);
+        assert_eq!(full.sim_preset.rain.k_a, 0.7);
+        assert_eq!(full.sim_preset.sim.max_side, Preset::default().sim.max_side);
+        // The full pass is the plain run of the document, restyled.
+        let l = h.state().loaded.as_ref().unwrap();
+        let job = l
+            .proxy
+            .job(&l.doc.run_preset(), None, &l.doc.layers)
+            .unwrap();
+        let fresh = render::simulate(job, &crate::progress::Progress::none()).unwrap();
+        assert_eq!(full.image, fresh.image);
+        let (first, refined) = (
+            h.state().preview_latency_ms().unwrap(),
+            h.state().preview_refined_ms().unwrap(),
+        );
+        assert!(refined > first, "{first} ms, then {refined} ms");
+    }
 
     #[test]
     fn blank_screenshots_are_refused() {

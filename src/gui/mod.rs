@@ -9,9 +9,11 @@
 //! - [`command`]: what widgets ask for. Widgets emit commands; [`app`]
 //!   applies them in one place and records [`history`] steps.
 //! - [`worker`]: background threads with cancellation; a newer job cancels
-//!   an older one and stale results are dropped.
-//! - [`render`]: the jobs: the ~1 MP preview (with re-composite-only updates)
-//!   and the full-resolution export.
+//!   an older one and stale results are dropped. A job may hand over an
+//!   early result (the preview's quick pass) before its final one.
+//! - [`render`]: the jobs: the ~1 MP preview (a quick pass on a coarse grid,
+//!   then the full pass; re-composite-only updates) and the full-resolution
+//!   export.
 //! - [`canvas`], [`tools`], [`panels`]: the canvas and its tools, and the
 //!   parameter, time and layer panels.
 

@@ -305,7 +305,8 @@ impl Previewer {
         quick: bool,
         progress: &Progress,
     ) -> Result<Preview> {
-        let reuse = preset.dust.enabled && self.dust.as_ref().is_some_and(|c| c.matches(job, preset));
+        let reuse =
+            preset.dust.enabled && self.dust.as_ref().is_some_and(|c| c.matches(job, preset));
         let without_dust;
         let run = if reuse {
             let mut p = preset.clone();
@@ -338,7 +339,11 @@ impl Previewer {
                     .collect(),
             });
         }
-        let original = stack.layers.iter().map(|l| (l.opacity, l.visible)).collect();
+        let original = stack
+            .layers
+            .iter()
+            .map(|l| (l.opacity, l.visible))
+            .collect();
         let mut preview = Preview {
             stack,
             sim_preset: preset.clone(),
@@ -643,6 +648,118 @@ mod tests {
         for (a, b) in short.layers.iter().zip(&long.layers) {
             assert_eq!(a.to_rgba(), b.to_rgba(), "{}", a.name);
         }
+    }
+
+    fn facade_job(w: u32, h: u32, edit: impl Fn(&mut Preset)) -> PreviewJob {
+        let d = crate::demo::facade(w, h);
+        let mut p = Preset::default();
+        p.rain.source_lines = d.source_lines.clone();
+        p.rain.droplets = 300;
+        p.rain.layers = 3;
+        edit(&mut p);
+        PreviewJob {
+            scene: Scene::new(d.photo, d.region).unwrap(),
+            quad: None,
+            preset: p,
+            layers: BTreeMap::new(),
+        }
+    }
+
+    #[test]
+    fn the_quick_pass_only_coarsens_the_grid() {
+        let p = Preset::default();
+        let q = quick_preset(&p, 1155, 866).expect("1 MP proxy, 1024 grid: two passes");
+        assert_eq!(q.sim.max_side, QUICK_MAX_SIDE);
+        let mut back = q.clone();
+        back.sim.max_side = p.sim.max_side;
+        assert_eq!(back, p, "every other parameter is the same");
+        let mut photo_res = p.clone();
+        photo_res.sim.max_side = 0;
+        assert!(quick_preset(&photo_res, 1155, 866).is_some());
+        assert!(
+            quick_preset(&p, 240, 180).is_none(),
+            "a small photo's grid is coarse already"
+        );
+        let mut coarse = p.clone();
+        coarse.sim.max_side = QUICK_MAX_SIDE;
+        assert!(quick_preset(&coarse, 1155, 866).is_none());
+    }
+
+    #[test]
+    fn run_shows_the_quick_pass_then_the_full_one() {
+        let job = facade_job(480, 360, |_| {});
+        let shown = std::sync::Mutex::new(Vec::new());
+        let full = Previewer::default()
+            .run(job.clone(), &Progress::none(), &|p| {
+                shown.lock().unwrap().push(p)
+            })
+            .unwrap();
+        let shown = shown.into_inner().unwrap();
+        assert_eq!(shown.len(), 1, "one quick pass before the full one");
+        let quick = &shown[0];
+        assert!(quick.quick && !full.quick);
+        assert_eq!(quick.sim_preset.sim.max_side, QUICK_MAX_SIDE);
+        assert_eq!(full.sim_preset, job.preset);
+        assert_eq!(quick.image.size, full.image.size);
+        assert_eq!(quick.layer_names(), full.layer_names());
+        assert_ne!(quick.image, full.image, "the full pass adds detail");
+        let fresh = simulate(job, &Progress::none()).unwrap();
+        assert_eq!(full.image, fresh.image, "the full pass is the plain run");
+    }
+
+    #[test]
+    fn the_full_pass_stops_when_cancelled_after_the_quick_one() {
+        let job = facade_job(480, 360, |p| p.rain.layers = 200);
+        let cancel = std::sync::atomic::AtomicBool::new(false);
+        let progress = Progress::new(None, Some(&cancel));
+        let shown = std::sync::Mutex::new(None);
+        let r = Previewer::default().run(job, &progress, &|_| {
+            // A newer change arrives as soon as the quick pass shows.
+            *shown.lock().unwrap() = Some(std::time::Instant::now());
+            cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+        });
+        assert!(
+            matches!(r, Err(crate::Error::Cancelled)),
+            "{:?}",
+            r.map(|_| ())
+        );
+        let at = shown.into_inner().unwrap().expect("the quick pass showed");
+        assert!(
+            at.elapsed() < std::time::Duration::from_secs(2),
+            "stopped {:?} after the quick pass",
+            at.elapsed()
+        );
+    }
+
+    #[test]
+    fn kept_dust_matches_a_fresh_run() {
+        let mut previewer = Previewer::default();
+        let a = facade_job(240, 180, |p| p.rain.k_a = 0.5);
+        let first = previewer.full(&a, &Progress::none()).unwrap();
+        assert!(first.layer_names().iter().any(|n| is_dust_layer(n)));
+        // A rain change: the dust is kept, the picture is the fresh run's.
+        let mut b = facade_job(240, 180, |p| p.rain.k_a = 0.6);
+        let kept = previewer.full(&b, &Progress::none()).unwrap();
+        assert!(kept.timings.iter().any(|t| t.stage == "dust (kept)"));
+        let fresh = simulate(b.clone(), &Progress::none()).unwrap();
+        assert_eq!(kept.layer_names(), fresh.layer_names());
+        assert_eq!(kept.image, fresh.image);
+        // A dust change or another region: the dust is made again.
+        b.preset.dust.days += 30;
+        let redone = previewer.full(&b, &Progress::none()).unwrap();
+        assert!(!redone.timings.iter().any(|t| t.stage == "dust (kept)"));
+        assert_eq!(
+            redone.image,
+            simulate(b.clone(), &Progress::none()).unwrap().image
+        );
+        let mut region = (*b.scene.region.clone().unwrap()).clone();
+        for px in region.pixels_mut().take(20_000) {
+            px[0] = 0;
+        }
+        b.scene.region = Some(Arc::new(region));
+        let other = previewer.full(&b, &Progress::none()).unwrap();
+        assert!(!other.timings.iter().any(|t| t.stage == "dust (kept)"));
+        assert_eq!(other.image, simulate(b, &Progress::none()).unwrap().image);
     }
 
     #[test]

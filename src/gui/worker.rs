@@ -458,15 +458,28 @@ mod tests {
                 Ok(n * 10)
             });
         let first = w.submit(0);
-        let quick = w.wait(Duration::from_secs(10)).expect("quick pass of job 0");
-        assert_eq!((quick.id, quick.partial, quick.result.unwrap()), (first, true, 1));
+        let quick = w
+            .wait(Duration::from_secs(10))
+            .expect("quick pass of job 0");
+        assert_eq!(
+            (quick.id, quick.partial, quick.result.unwrap()),
+            (first, true, 1)
+        );
         std::thread::sleep(Duration::from_millis(20));
         assert!(w.is_busy(), "job 0's full pass runs");
         let start = Instant::now();
         let second = w.submit(7);
         let seen = collect(&mut w);
-        assert!(start.elapsed() < Duration::from_secs(3), "{:?}", start.elapsed());
-        assert_eq!(cancelled.load(Ordering::SeqCst), 1, "job 0's full pass stopped");
+        assert!(
+            start.elapsed() < Duration::from_secs(3),
+            "{:?}",
+            start.elapsed()
+        );
+        assert_eq!(
+            cancelled.load(Ordering::SeqCst),
+            1,
+            "job 0's full pass stopped"
+        );
         // Only job 7's results, the final one last (the quick one may have
         // been overtaken by the final one between two polls).
         assert!(seen.iter().all(|&(id, _, _)| id == second), "{seen:?}");

@@ -389,7 +389,7 @@ impl Default for DustParams {
             theta_v: 60.0,
             theta_i: 45.0,
             film_opacity: 1.0,
-            granule_opacity: 1.0,
+            granule_opacity: 0.5,
         }
     }
 }
@@ -594,7 +594,7 @@ fn push_field(out: &mut String, path: &str, key: &str, v: &toml::Value) {
         };
         out.push_str(&format!("# {}{sym}.{range}\n", spec.doc));
     }
-    out.push_str(&format!("{key} = {v}\n"));
+    out.push_str(&format!("{key} = {}\n", toml_literal(v)));
 }
 
 /// Every value at `keys` below `v`; arrays fan out (each element is looked
@@ -609,6 +609,26 @@ fn leaves<'a>(v: &'a toml::Value, keys: &[&str], out: &mut Vec<&'a toml::Value>)
                 leaves(child, rest, out);
             }
         }
+    }
+}
+
+/// A TOML literal with floats printed at f32 precision (`0.025`, not
+/// `0.02500000037252903`), as the preset stores them.
+fn toml_literal(v: &toml::Value) -> String {
+    match v {
+        toml::Value::Float(f) => {
+            let s = (*f as f32).to_string();
+            if s.contains(['.', 'e', 'i', 'N']) {
+                s
+            } else {
+                format!("{s}.0")
+            }
+        }
+        toml::Value::Array(items) => {
+            let items: Vec<String> = items.iter().map(toml_literal).collect();
+            format!("[{}]", items.join(", "))
+        }
+        other => other.to_string(),
     }
 }
 

@@ -32,7 +32,8 @@ const fn p(
 }
 
 /// Every numeric parameter. Validation, `grime preset default` comments and
-/// the GUI's sliders all read this table.
+/// the GUI's sliders all read this table. Entries with `min == max` document
+/// a switch, a name or a list (never range-checked).
 pub const PARAMS: &[ParamSpec] = &[
     p(
         "seed",
@@ -267,11 +268,25 @@ pub const PARAMS: &[ParamSpec] = &[
         64.0,
     ),
     p(
+        "moss.enabled",
+        "",
+        "Grow moss (a \"moss\" layer above the rain layers)",
+        0.0,
+        0.0,
+    ),
+    p(
         "moss.years",
         "",
         "Years of moss growth: colonies seed, spread to their neighbours and grow every year",
         0.0,
         500.0,
+    ),
+    p(
+        "moss.color",
+        "",
+        "Colony colour: \"orange\" RGB(180,130,0) or \"yellow-green\" RGB(140,130,80), Chang's two Caloplaca colours",
+        0.0,
+        0.0,
     ),
     p(
         "moss.gamma",
@@ -359,11 +374,39 @@ pub const PARAMS: &[ParamSpec] = &[
         100.0,
     ),
     p(
+        "dust.enabled",
+        "",
+        "Let dust settle (\"dust film\" and \"dust granules\" layers above the moss)",
+        0.0,
+        0.0,
+    ),
+    p(
         "dust.days",
         "t",
         "Days of dust accumulation; later days add particles to earlier ones (Santos eq. 1)",
         0.0,
         36500.0,
+    ),
+    p(
+        "dust.environment",
+        "",
+        "Accumulation rates measured by Santos: \"low-activity\", \"high-activity\", \"steep-start\", \"desktop\", or \"custom\" to use film_segments and mask_segments",
+        0.0,
+        0.0,
+    ),
+    p(
+        "dust.film_segments",
+        "",
+        "Custom fine-particle rates (environment = \"custom\"): [{ days, alpha, beta }, ...], each eq. 1 in turn; the last runs on",
+        0.0,
+        0.0,
+    ),
+    p(
+        "dust.mask_segments",
+        "",
+        "Custom coarse-element rates (environment = \"custom\"): [{ days, alpha, beta }, ...], each eq. 1 in turn; the last runs on",
+        0.0,
+        0.0,
     ),
     p(
         "dust.film_segments.days",

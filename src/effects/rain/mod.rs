@@ -144,19 +144,19 @@ pub fn simulate(
         let mut layer_rng = random::rng(seed, Stream::RainLayer, layer as u64, 0);
         if layer > 0 {
             // Chang eq. (15): deposited dirt raises the surface for the next rain
-            // [choice: eps is a fraction of full scale, 255 * eps * D / D_max].
-            let d_max = wall
-                .d
-                .par_iter()
-                .cloned()
-                .fold(|| 0.0f32, f32::max)
-                .reduce(|| 0.0, f32::max);
+            // [choice: eps is a fraction of full scale, and D is what the previous
+            // rainfall deposited, so streak channels rise (and later droplets
+            // follow them) while the rest of the wall keeps its texture;
+            // raising by the total dirt lifts the whole wall to 255 within a
+            // few rainfalls and erases the roughness].
+            let d_max = wall.deposit_max();
             if d_max > 0.0 {
                 let raise = 255.0 * p.eps / d_max;
                 wall.b
                     .par_iter_mut()
                     .zip(&wall.d)
-                    .for_each(|(b, d)| *b = (*b + raise * d).min(255.0));
+                    .zip(&wall.baseline)
+                    .for_each(|((b, d), base)| *b = (*b + raise * (d - base).max(0.0)).min(255.0));
             }
             // Chang eqs. (11-12): drying and wind loss, one xi2 per layer [choice].
             let xi2: f32 = layer_rng.random();

@@ -135,6 +135,15 @@ impl Wall {
         std::mem::swap(&mut self.baseline, &mut self.scratch_baseline);
     }
 
+    /// The largest deposit of the current rainfall, max(D - baseline).
+    pub fn deposit_max(&self) -> f32 {
+        self.d
+            .par_iter()
+            .zip(&self.baseline)
+            .map(|(d, b)| d - b)
+            .reduce(|| 0.0, f32::max)
+    }
+
     /// Evaporation (the I_sun term of eq. 6) over the whole wall.
     pub fn evaporate(&mut self, amount: f32) {
         if amount > 0.0 {
