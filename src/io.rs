@@ -54,7 +54,11 @@ impl Format {
             "webp" => Format::Webp,
             "psd" => Format::Psd,
             "ora" => Format::Ora,
-            _ => return Err(Error::UnknownFormat { path: path.to_path_buf() }),
+            _ => {
+                return Err(Error::UnknownFormat {
+                    path: path.to_path_buf(),
+                });
+            }
         })
     }
 
@@ -107,16 +111,29 @@ pub fn load_image(path: &Path) -> Result<(DynamicImage, Option<Vec<u8>>)> {
         .with_guessed_format()
         .map_err(|e| Error::io(path, e))?;
     if reader.format().is_none() {
-        return Err(if std::fs::metadata(path).map(|m| m.len() == 0).unwrap_or(false) {
-            Error::Decode { path: path.to_path_buf(), reason: "the file is empty".into() }
-        } else {
-            Error::UnknownFormat { path: path.to_path_buf() }
-        });
+        return Err(
+            if std::fs::metadata(path)
+                .map(|m| m.len() == 0)
+                .unwrap_or(false)
+            {
+                Error::Decode {
+                    path: path.to_path_buf(),
+                    reason: "the file is empty".into(),
+                }
+            } else {
+                Error::UnknownFormat {
+                    path: path.to_path_buf(),
+                }
+            },
+        );
     }
     if reader.format() == Some(image::ImageFormat::Jpeg) {
         // The JPEG decoder fills a truncated scan with grey instead of failing.
         let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        jpeg_complete(&data).map_err(|reason| Error::Decode { path: path.to_path_buf(), reason })?;
+        jpeg_complete(&data).map_err(|reason| Error::Decode {
+            path: path.to_path_buf(),
+            reason,
+        })?;
     }
     reader.limits(limits());
     let mut decoder = reader.into_decoder().map_err(|e| decode_error(path, e))?;
@@ -129,7 +146,9 @@ pub fn load_image(path: &Path) -> Result<(DynamicImage, Option<Vec<u8>>)> {
         });
     }
     let icc = decoder.icc_profile().ok().flatten();
-    let orientation = decoder.orientation().unwrap_or(image::metadata::Orientation::NoTransforms);
+    let orientation = decoder
+        .orientation()
+        .unwrap_or(image::metadata::Orientation::NoTransforms);
     let mut img = DynamicImage::from_decoder(decoder).map_err(|e| decode_error(path, e))?;
     img.apply_orientation(orientation);
     Ok((img, icc))
@@ -149,7 +168,10 @@ pub fn jpeg_complete(data: &[u8]) -> std::result::Result<(), String> {
     let mut i = 2;
     loop {
         // Decoders skip stray bytes between segments; so do we.
-        i += data[i.min(data.len())..].iter().position(|&b| b == 0xFF).ok_or(TRUNCATED)?;
+        i += data[i.min(data.len())..]
+            .iter()
+            .position(|&b| b == 0xFF)
+            .ok_or(TRUNCATED)?;
         while data.get(i) == Some(&0xFF) {
             i += 1;
         }
@@ -172,7 +194,10 @@ pub fn jpeg_complete(data: &[u8]) -> std::result::Result<(), String> {
             // Entropy-coded data: runs to the next marker that is neither a
             // stuffed 0xFF00 nor a restart marker.
             loop {
-                i += data[i.min(data.len())..].iter().position(|&b| b == 0xFF).ok_or(TRUNCATED)?;
+                i += data[i.min(data.len())..]
+                    .iter()
+                    .position(|&b| b == 0xFF)
+                    .ok_or(TRUNCATED)?;
                 match data.get(i + 1) {
                     None => return Err(TRUNCATED.into()),
                     Some(0x00 | 0xD0..=0xD7 | 0xFF) => i += 1,
@@ -228,7 +253,10 @@ static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 /// # Errors
 /// [`Error::Io`] when the folder is missing or not writable, or whatever
 /// `write` returns.
-pub fn write_atomic(path: &Path, write: impl FnOnce(&mut BufWriter<File>) -> Result<()>) -> Result<()> {
+pub fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
+) -> Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
@@ -252,7 +280,9 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&mut BufWriter<File>) -> Res
         let file = File::create(&tmp).map_err(|e| Error::io(&tmp, e))?;
         let mut out = BufWriter::new(file);
         write(&mut out)?;
-        let file = out.into_inner().map_err(|e| Error::io(&tmp, e.into_error()))?;
+        let file = out
+            .into_inner()
+            .map_err(|e| Error::io(&tmp, e.into_error()))?;
         file.sync_all().map_err(|e| Error::io(&tmp, e))?;
         std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
     })();
@@ -268,7 +298,13 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&mut BufWriter<File>) -> Res
 /// # Errors
 /// [`Error::Encode`] if the encoder fails, [`Error::UnknownFormat`] for a
 /// layered format.
-pub fn encode(img: &DynamicImage, icc: Option<&[u8]>, format: Format, path: &Path, out: &mut impl Write) -> Result<()> {
+pub fn encode(
+    img: &DynamicImage,
+    icc: Option<&[u8]>,
+    format: Format,
+    path: &Path,
+    out: &mut impl Write,
+) -> Result<()> {
     let enc_err = |e: ImageError| Error::Encode {
         path: path.to_path_buf(),
         reason: e.to_string(),
@@ -293,8 +329,11 @@ pub fn encode(img: &DynamicImage, icc: Option<&[u8]>, format: Format, path: &Pat
         }
         Format::Tiff => {
             let mut buf = std::io::Cursor::new(Vec::new());
-            img.write_with_encoder(with_icc(image::codecs::tiff::TiffEncoder::new(&mut buf), icc))
-                .map_err(enc_err)?;
+            img.write_with_encoder(with_icc(
+                image::codecs::tiff::TiffEncoder::new(&mut buf),
+                icc,
+            ))
+            .map_err(enc_err)?;
             out.write_all(buf.get_ref()).map_err(|e| Error::io(path, e))
         }
         Format::Webp => {
@@ -303,10 +342,15 @@ pub fn encode(img: &DynamicImage, icc: Option<&[u8]>, format: Format, path: &Pat
             } else {
                 DynamicImage::ImageRgb8(img.to_rgb8())
             };
-            img8.write_with_encoder(with_icc(image::codecs::webp::WebPEncoder::new_lossless(out), icc))
-                .map_err(enc_err)
+            img8.write_with_encoder(with_icc(
+                image::codecs::webp::WebPEncoder::new_lossless(out),
+                icc,
+            ))
+            .map_err(enc_err)
         }
-        Format::Psd | Format::Ora => Err(Error::UnknownFormat { path: path.to_path_buf() }),
+        Format::Psd | Format::Ora => Err(Error::UnknownFormat {
+            path: path.to_path_buf(),
+        }),
     }
 }
 
@@ -334,7 +378,11 @@ mod tests {
         });
         assert!(r.is_err());
         assert_eq!(std::fs::read(&path).unwrap(), b"old");
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "temp file removed");
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            1,
+            "temp file removed"
+        );
     }
 
     #[test]
@@ -363,7 +411,10 @@ mod tests {
     #[test]
     fn formats_by_extension() {
         assert_eq!(Format::from_path(Path::new("a.JPG")).unwrap(), Format::Jpeg);
-        assert_eq!(Format::from_path(Path::new("a.tiff")).unwrap(), Format::Tiff);
+        assert_eq!(
+            Format::from_path(Path::new("a.tiff")).unwrap(),
+            Format::Tiff
+        );
         assert!(Format::from_path(Path::new("a.bmpx")).is_err());
         assert!(!Format::is_input(Path::new("a.psd")));
     }

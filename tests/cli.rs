@@ -239,7 +239,14 @@ fn invalid_presets_are_clear_errors() {
         ]),
         "built-in presets",
     );
-    let too_big = grime(&["run", s(&input), "-o", s(&out), "--seed", "9223372036854775808"]);
+    let too_big = grime(&[
+        "run",
+        s(&input),
+        "-o",
+        s(&out),
+        "--seed",
+        "9223372036854775808",
+    ]);
     assert_clear_error(&too_big, "seed");
     assert!(!out.exists());
 }

@@ -155,9 +155,25 @@ fn deposits_raise_streak_channels_but_keep_the_wall_rough() {
     // Eq. (15): after many rainfalls the surface keeps its texture; only
     // where dirt was deposited does it rise.
     let (luma, region) = wall_input(96, 128);
-    let input = RainInput { width: 96, height: 128, luma: &luma, region: &region, source_lines: vec![] };
-    let p = RainParams { layers: 12, droplets: 60, reference_width: 0, ..RainParams::default() };
+    let input = RainInput {
+        width: 96,
+        height: 128,
+        luma: &luma,
+        region: &region,
+        source_lines: vec![],
+    };
+    let p = RainParams {
+        layers: 12,
+        droplets: 60,
+        reference_width: 0,
+        ..RainParams::default()
+    };
     let out = simulate(&input, &p, 11, &Progress::none()).unwrap();
-    let rough = out.roughness_y.iter().filter(|&&m| m > 0.0).count() as f32 / out.roughness_y.len() as f32;
-    assert!(rough > 0.5, "only {:.0}% of the wall is still rough", rough * 100.0);
+    let rough =
+        out.roughness_y.iter().filter(|&&m| m > 0.0).count() as f32 / out.roughness_y.len() as f32;
+    assert!(
+        rough > 0.5,
+        "only {:.0}% of the wall is still rough",
+        rough * 100.0
+    );
 }
