@@ -139,6 +139,7 @@ pub fn simulate(
     let mut starts: Vec<(f32, f32)> = vec![(0.0, 0.0); n as usize];
     let mut layers = Vec::with_capacity(p.layers as usize);
     let mut scratch = Vec::new();
+    let mut carry = Vec::new();
 
     for layer in 0..p.layers {
         let mut layer_rng = random::rng(seed, Stream::RainLayer, layer as u64, 0);
@@ -150,34 +151,49 @@ pub fn simulate(
             // raising by the total dirt lifts the whole wall to 255 within a
             // few rainfalls and erases the roughness].
             let d_max = wall.deposit_max();
-            if d_max > 0.0 {
-                let raise = 255.0 * p.eps / d_max;
-                wall.b
-                    .par_iter_mut()
-                    .zip(&wall.d)
-                    .zip(&wall.baseline)
-                    .for_each(|((b, d), base)| *b = (*b + raise * (d - base).max(0.0)).min(255.0));
-            }
+            let raise = 255.0 * p.eps / d_max;
             // Chang eqs. (11-12): drying and wind loss, one xi2 per layer [choice].
             let xi2: f32 = layer_rng.random();
-            wall.w.par_iter_mut().for_each(|w| *w *= xi2);
-            wall.d.par_iter_mut().for_each(|d| *d *= xi2);
+            // One pass over the wall for eq. 15 and eqs. 11-12.
+            wall.b
+                .par_iter_mut()
+                .zip(&mut wall.w)
+                .zip(&mut wall.d)
+                .zip(&wall.baseline)
+                .for_each(|(((b, w), d), base)| {
+                    if d_max > 0.0 {
+                        *b = (*b + raise * (*d - base).max(0.0)).min(255.0);
+                    }
+                    *w *= xi2;
+                    *d *= xi2;
+                });
         }
         // Chang eq. (12): fresh grime I_D0, smooth noise [choice: fBm, not white noise].
-        add_grime(
-            &mut wall,
+        let grime = fill_grime(
+            &wall,
             p,
             random::key(seed, Stream::Grime, layer as u64, 0),
             &mut scratch,
         );
-        // Chang eqs. (13-14): delta * k_D * D moves into this layer's source term I_D,
-        // returned to the wall over the rainfall's diffusion rounds.
-        let carry: Vec<f32> = wall.d.par_iter().map(|d| p.delta * k_d * d).collect();
-        wall.d.par_iter_mut().zip(&carry).for_each(|(d, c)| *d -= c);
-        // What the dirt would be without droplets: diffused and topped up like
-        // D. The layer's deposit is D minus this, so the stain shows what the
-        // rain moved, not the smoothing of old grime.
-        wall.baseline.clone_from(&wall.d);
+        // Chang eqs. (13-14): delta * k_D * D moves into this layer's source term
+        // I_D, returned to the wall over the rainfall's diffusion rounds. The
+        // baseline is what the dirt would be without droplets: diffused and
+        // topped up like D. The layer's deposit is D minus it, so the stain
+        // shows what the rain moved, not the smoothing of old grime.
+        carry.resize(wall.d.len(), 0.0);
+        wall.d
+            .par_iter_mut()
+            .zip(&mut carry)
+            .zip(&mut wall.baseline)
+            .enumerate()
+            .for_each(|(i, ((d, c), base))| {
+                if let Some(grime) = grime {
+                    *d += grime[i] * wall.inside[i];
+                }
+                *c = p.delta * k_d * *d;
+                *d -= *c;
+                *base = *d;
+            });
 
         let mut stats = LayerStats::default();
         let mut paths = Vec::with_capacity(n as usize);
@@ -269,9 +285,16 @@ pub fn simulate(
     })
 }
 
-fn add_grime(wall: &mut Wall, p: &RainParams, key: u64, scratch: &mut Vec<f32>) {
+/// Chang eq. (12)'s fresh grime for this rainfall, in storage order, or
+/// `None` when there is none.
+fn fill_grime<'a>(
+    wall: &Wall,
+    p: &RainParams,
+    key: u64,
+    scratch: &'a mut Vec<f32>,
+) -> Option<&'a [f32]> {
     if p.initial_dirt <= 0.0 {
-        return;
+        return None;
     }
     // Filled in storage order (column-major), i.e. the noise is transposed.
     let noise = random::Noise::new(
@@ -283,27 +306,32 @@ fn add_grime(wall: &mut Wall, p: &RainParams, key: u64, scratch: &mut Vec<f32>) 
     );
     scratch.resize(wall.d.len(), 0.0);
     noise.fill(wall.rows, p.initial_dirt, scratch);
-    wall.d
-        .par_iter_mut()
-        .zip(scratch.par_iter())
-        .zip(wall.inside.par_iter())
-        .for_each(|((d, n), inside)| *d += n * inside);
+    Some(scratch)
 }
 
-/// Eqs. (9-10) diffusion, I_sun evaporation and this round's share of the
-/// carried-over dirt (eq. 13's source term), to the dirt and its baseline.
+/// Eqs. (9-10) diffusion, then in one pass I_sun evaporation and this
+/// round's share of the carried-over dirt (eq. 13's source term) to the dirt
+/// and its baseline.
 fn diffusion_round(wall: &mut Wall, p: &RainParams, carry: &[f32], rounds: u32) {
-    if p.diffusion_rounds > 0 {
+    let evaporation = if p.diffusion_rounds > 0 {
         wall.diffuse(p.tau, p.dirt_coupling, p.diffusion_iterations);
-        wall.evaporate(p.i_sun);
-    }
+        p.i_sun
+    } else {
+        0.0
+    };
     let share = 1.0 / rounds as f32;
-    for field in [&mut wall.d, &mut wall.baseline] {
-        field
-            .par_iter_mut()
-            .zip(carry)
-            .for_each(|(d, c)| *d += c * share);
-    }
+    wall.w
+        .par_iter_mut()
+        .zip(&mut wall.d)
+        .zip(&mut wall.baseline)
+        .zip(carry)
+        .for_each(|(((w, d), base), c)| {
+            if evaporation > 0.0 {
+                *w = (*w - evaporation).max(0.0);
+            }
+            *d += c * share;
+            *base += c * share;
+        });
 }
 
 /// Copies the unpadded interior of a padded (column-major) wall field into

@@ -143,15 +143,6 @@ impl Wall {
             .map(|(d, b)| d - b)
             .reduce(|| 0.0, f32::max)
     }
-
-    /// Evaporation (the I_sun term of eq. 6) over the whole wall.
-    pub fn evaporate(&mut self, amount: f32) {
-        if amount > 0.0 {
-            self.w
-                .par_iter_mut()
-                .for_each(|w| *w = (*w - amount).max(0.0));
-        }
-    }
 }
 
 /// The 8-neighbourhood.
