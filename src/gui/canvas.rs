@@ -295,26 +295,15 @@ impl Canvas {
             draw_quad(&painter, &q, to_screen, tool == Tool::Quad);
         }
         match &self.gesture {
-            Gesture::Rect { start } => {
+            Gesture::Rect { start } | Gesture::NewQuad { start } => {
+                let color = if matches!(self.gesture, Gesture::NewQuad { .. }) {
+                    QUAD_COLOR
+                } else {
+                    SHAPE_COLOR
+                };
                 if let Some(p) = p_photo {
                     let r = Rect::from_two_pos(to_screen(*start), to_screen(p));
-                    painter.rect_stroke(
-                        r,
-                        0.0,
-                        Stroke::new(1.5, SHAPE_COLOR),
-                        egui::StrokeKind::Middle,
-                    );
-                }
-            }
-            Gesture::NewQuad { start } => {
-                if let Some(p) = p_photo {
-                    let r = Rect::from_two_pos(to_screen(*start), to_screen(p));
-                    painter.rect_stroke(
-                        r,
-                        0.0,
-                        Stroke::new(1.5, QUAD_COLOR),
-                        egui::StrokeKind::Middle,
-                    );
+                    painter.rect_stroke(r, 0.0, Stroke::new(1.5, color), egui::StrokeKind::Middle);
                 }
             }
             Gesture::Lasso { pts, .. } | Gesture::Line { pts } => {
