@@ -168,6 +168,19 @@ impl Grid {
             .skip(self.y0 as usize)
             .take(self.box_h as usize)
             .for_each(|(y, row)| {
+                let mask_row = mask.map(|m| &m.as_raw()[y * stride..(y + 1) * stride]);
+                let to_u8 = |v: f32, x: usize| {
+                    let weight = mask_row.map_or(255.0, |m| m[x] as f32);
+                    (v * weight + 0.5).clamp(0.0, 255.0) as u8
+                };
+                if self.scale == 1.0 {
+                    // The grid is the box: a copy.
+                    let src = &values[(y - self.y0 as usize) * gw..][..gw];
+                    for (x, (o, &v)) in row[x0..x0 + gw].iter_mut().zip(src).enumerate() {
+                        *o = to_u8(v, x0 + x);
+                    }
+                    return;
+                }
                 let g = ((y as f32 - self.y0 as f32 + 0.5) / self.scale - 0.5)
                     .clamp(0.0, (gh - 1) as f32);
                 let (ra, rb, ty) = (g as usize, (g as usize + 1).min(gh - 1), g.fract());
@@ -181,16 +194,13 @@ impl Grid {
                     .zip(bottom)
                     .map(|(t, b)| t + (b - t) * ty)
                     .collect();
-                let mask_row = mask.map(|m| &m.as_raw()[y * stride..(y + 1) * stride]);
                 for &(a, start, end) in &spans {
                     let (va, vb) = (line[a], line[(a + 1).min(gw - 1)]);
                     if va == 0.0 && vb == 0.0 {
                         continue; // transparent span: most of a streak layer
                     }
                     for x in start..end {
-                        let weight = mask_row.map_or(255.0, |m| m[x0 + x] as f32);
-                        let v = (va + (vb - va) * tx[x]) * weight;
-                        row[x0 + x] = (v + 0.5).clamp(0.0, 255.0) as u8;
+                        row[x0 + x] = to_u8(va + (vb - va) * tx[x], x0 + x);
                     }
                 }
             });

@@ -211,14 +211,14 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
     let d_max = rain::stain::d_max(&rain.layers, preset.stain.percentile);
     let mut layers = Vec::with_capacity(rain.layers.len());
     let mut reports = Vec::with_capacity(rain.layers.len());
+    let mut coverage = rain::stain::Coverage::new(grid.width, grid.height);
     for (i, rl) in rain.layers.iter().enumerate() {
         progress.check()?;
         progress.update(
             "stain",
             0.7 + 0.1 * i as f32 / rain.layers.len().max(1) as f32,
         );
-        let cov = rain::stain::coverage(&rl.deposit, grid.width, grid.height, d_max, &preset.stain);
-        let alpha = grid.upsample(&cov, mask, w, h);
+        let alpha = grid.upsample(coverage.of(&rl.deposit, d_max, &preset.stain), mask, w, h);
         let layer = Layer {
             name: format!("rain {:02}", i + 1),
             blend: BlendMode::Multiply,

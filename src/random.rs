@@ -95,17 +95,44 @@ impl Lattice {
         top + (bottom - top) * ty
     }
 
-    /// Adds `weight * noise` to a whole row, with per-column cells `cols`.
-    fn add_row(&self, y: f32, cols: &[(usize, f32)], weight: f32, out: &mut [f32]) {
+    /// Each column's lattice cell along a row `width` pixels wide, as runs
+    /// of columns in the same cell.
+    fn columns(&self, width: usize) -> Columns {
+        let mut runs: Vec<(usize, usize, usize)> = Vec::new();
+        let mut weights = Vec::with_capacity(width);
+        for x in 0..width {
+            let (ix, tx) = self.cell(x as f32, self.cols);
+            weights.push(tx);
+            match runs.last_mut() {
+                Some(run) if run.0 == ix => run.2 = x + 1,
+                _ => runs.push((ix, x, x + 1)),
+            }
+        }
+        Columns { runs, weights }
+    }
+
+    /// Adds `weight * noise` to a whole row, with the row's `columns`.
+    fn add_row(&self, y: f32, columns: &Columns, weight: f32, out: &mut [f32]) {
         let (iy, ty) = self.cell(y, self.rows);
         let top = &self.values[iy * self.cols..(iy + 1) * self.cols];
         let bottom = &self.values[(iy + 1) * self.cols..(iy + 2) * self.cols];
-        for (o, &(ix, tx)) in out.iter_mut().zip(cols) {
-            let t = top[ix] + (top[ix + 1] - top[ix]) * tx;
-            let b = bottom[ix] + (bottom[ix + 1] - bottom[ix]) * tx;
-            *o += weight * (t + (b - t) * ty);
+        for &(ix, start, end) in &columns.runs {
+            let (t0, t1, b0, b1) = (top[ix], top[ix + 1], bottom[ix], bottom[ix + 1]);
+            for (o, &tx) in out[start..end].iter_mut().zip(&columns.weights[start..end]) {
+                let t = t0 + (t1 - t0) * tx;
+                let b = b0 + (b1 - b0) * tx;
+                *o += weight * (t + (b - t) * ty);
+            }
         }
     }
+}
+
+/// A row's columns in an octave's lattice: runs (cell, first, end) and
+/// each column's smoothstep weight.
+#[derive(Debug, Clone)]
+struct Columns {
+    runs: Vec<(usize, usize, usize)>,
+    weights: Vec<f32>,
 }
 
 /// Smooth fractal value noise (fBm) over a `width` x `height` area, in [0, 1].
@@ -142,20 +169,22 @@ impl Noise {
     /// same values as [`Noise::at`] at pixel coordinates, much faster.
     pub fn fill(&self, width: usize, amplitude: f32, out: &mut [f32]) {
         use rayon::prelude::*;
+        let lines = self.lines(width, amplitude);
+        out.par_chunks_mut(width)
+            .enumerate()
+            .for_each(|(y, row)| lines.line(y, row));
+    }
+
+    /// Row-by-row access to `amplitude * noise`, `width` pixels wide, for
+    /// passes that consume the noise as they go.
+    pub fn lines(&self, width: usize, amplitude: f32) -> NoiseLines<'_> {
         let norm: f32 = (0..self.octaves.len()).map(|o| 0.5f32.powi(o as i32)).sum();
-        let tables: Vec<Vec<(usize, f32)>> = self
-            .octaves
-            .iter()
-            .map(|o| (0..width).map(|x| o.cell(x as f32, o.cols)).collect())
-            .collect();
-        out.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
-            row.fill(0.0);
-            let mut amp = amplitude / norm;
-            for (o, cols) in self.octaves.iter().zip(&tables) {
-                o.add_row(y as f32, cols, amp, row);
-                amp *= 0.5;
-            }
-        });
+        let tables = self.octaves.iter().map(|o| o.columns(width)).collect();
+        NoiseLines {
+            noise: self,
+            tables,
+            amplitude: amplitude / norm,
+        }
     }
 
     /// The noise value at (x, y).
@@ -167,6 +196,27 @@ impl Noise {
             amp *= 0.5;
         }
         sum / norm
+    }
+}
+
+/// Rows of a [`Noise`], from [`Noise::lines`].
+#[derive(Debug)]
+pub struct NoiseLines<'a> {
+    noise: &'a Noise,
+    /// Per octave, each column's lattice cell and weight.
+    tables: Vec<Columns>,
+    amplitude: f32,
+}
+
+impl NoiseLines<'_> {
+    /// Writes row `y` into `out`.
+    pub fn line(&self, y: usize, out: &mut [f32]) {
+        out.fill(0.0);
+        let mut amp = self.amplitude;
+        for (o, cols) in self.noise.octaves.iter().zip(&self.tables) {
+            o.add_row(y as f32, cols, amp, out);
+            amp *= 0.5;
+        }
     }
 }
 

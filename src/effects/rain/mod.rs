@@ -5,6 +5,7 @@
 //! moss grows from. [`stain`] turns deposits into layer coverage.
 
 pub mod droplets;
+mod patches;
 pub mod sources;
 pub mod stain;
 pub mod wall;
@@ -17,9 +18,9 @@ use crate::error::Result;
 use crate::preset::RainParams;
 use crate::progress::Progress;
 use crate::random::{self, Stream};
-use droplets::{Droplet, End};
+use droplets::{Droplet, End, Laws, Runner};
 use sources::Source;
-use wall::Wall;
+use wall::{Column, Wall};
 
 /// What the rain runs on: the wall's luminance and region on the grid.
 #[derive(Debug, Clone)]
@@ -71,7 +72,9 @@ pub struct Path {
 /// One rainfall's result.
 #[derive(Debug, Clone)]
 pub struct RainLayer {
-    /// Dirt this rainfall added, per grid pixel (max(D_end - D_start, 0)).
+    /// Dirt this rainfall's droplets left, per grid pixel (max(D - D without
+    /// them, 0)), in column-major order: pixel (x, y) at `x * height + y`,
+    /// the order the wall is stored and water runs in.
     pub deposit: Vec<f32>,
     /// Numbers.
     pub stats: LayerStats,
@@ -129,107 +132,81 @@ pub fn simulate(
     }
     let total_len: f32 = sources.iter().map(Source::length).sum();
     let n = if total_len > 0.0 {
-        droplet_count(p, input.width)
+        droplet_count(p, input.width) as usize
     } else {
         0
     };
-    let k_d = 1.0 - p.k_s;
-    let rounds = p.diffusion_rounds.max(1);
+    let laws = Laws::new(p);
+    let rounds = p.diffusion_rounds.max(1) as usize;
+    let area = input.region.iter().filter(|&&r| r).count().max(1);
     // Per droplet: (position along the sources, mass), carried between layers.
-    let mut starts: Vec<(f32, f32)> = vec![(0.0, 0.0); n as usize];
-    let mut layers = Vec::with_capacity(p.layers as usize);
-    let mut scratch = Vec::new();
-    let mut carry = Vec::new();
+    let mut starts: Vec<(f32, f32)> = vec![(0.0, 0.0); n];
+    let mut layers: Vec<RainLayer> = Vec::with_capacity(p.layers as usize);
 
     for layer in 0..p.layers {
-        let mut layer_rng = random::rng(seed, Stream::RainLayer, layer as u64, 0);
-        if layer > 0 {
-            // Chang eq. (15): deposited dirt raises the surface for the next rain
-            // [choice: eps is a fraction of full scale, and D is what the previous
-            // rainfall deposited, so streak channels rise (and later droplets
-            // follow them) while the rest of the wall keeps its texture;
-            // raising by the total dirt lifts the whole wall to 255 within a
-            // few rainfalls and erases the roughness].
-            let d_max = wall.deposit_max();
-            let raise = 255.0 * p.eps / d_max;
-            // Chang eqs. (11-12): drying and wind loss, one xi2 per layer [choice].
-            let xi2: f32 = layer_rng.random();
-            // One pass over the wall for eq. 15 and eqs. 11-12.
-            wall.b
-                .par_iter_mut()
-                .zip(&mut wall.w)
-                .zip(&mut wall.d)
-                .zip(&wall.baseline)
-                .for_each(|(((b, w), d), base)| {
-                    if d_max > 0.0 {
-                        *b = (*b + raise * (*d - base).max(0.0)).min(255.0);
-                    }
-                    *w *= xi2;
-                    *d *= xi2;
-                });
-        }
-        // Chang eq. (12): fresh grime I_D0, smooth noise [choice: fBm, not white noise].
-        let grime = fill_grime(
-            &wall,
-            p,
-            random::key(seed, Stream::Grime, layer as u64, 0),
-            &mut scratch,
-        );
-        // Chang eqs. (13-14): delta * k_D * D moves into this layer's source term
-        // I_D, returned to the wall over the rainfall's diffusion rounds. The
-        // baseline is what the dirt would be without droplets: diffused and
-        // topped up like D. The layer's deposit is D minus it, so the stain
-        // shows what the rain moved, not the smoothing of old grime.
-        carry.resize(wall.d.len(), 0.0);
-        wall.d
-            .par_iter_mut()
-            .zip(&mut carry)
-            .zip(&mut wall.baseline)
-            .enumerate()
-            .for_each(|(i, ((d, c), base))| {
-                if let Some(grime) = grime {
-                    *d += grime[i] * wall.inside[i];
-                }
-                *c = p.delta * k_d * *d;
-                *d -= *c;
-                *base = *d;
-            });
-
-        let mut stats = LayerStats::default();
-        let mut paths = Vec::with_capacity(n as usize);
-        let mut round = 0;
-        for (k, start) in starts.iter_mut().enumerate() {
-            if k % 32 == 0 {
-                progress.check()?;
-                progress.update(
-                    "rain",
-                    (layer as f32 + k as f32 / n as f32) / p.layers as f32,
-                );
+        if layer == 0 {
+            let noise = grime_noise(&wall, p, seed, 0);
+            let begin = Begin::new(p, seed, 0, &wall, noise.as_ref());
+            wall.columns(None, |mut col| begin.column(&mut col));
+        } else {
+            // Chang eq. (15): deposited dirt raises the surface for the next
+            // rain [choice: eps is a fraction of full scale, and D is what the
+            // previous rainfall deposited, so streak channels rise (and later
+            // droplets follow them) while the rest of the wall keeps its
+            // texture; raising by the total dirt lifts the whole wall to 255
+            // within a few rainfalls and erases the roughness].
+            if let Some(previous) = layers.last()
+                && previous.stats.max_dirt > 0.0
+            {
+                let raise = 255.0 * p.eps / previous.stats.max_dirt;
+                let rows = wall.rows;
+                wall.b[rows..(wall.cols - 1) * rows]
+                    .par_chunks_mut(rows)
+                    .zip(previous.deposit.par_chunks(input.height))
+                    .for_each(|(b, deposit)| {
+                        for (b, d) in b[1..].iter_mut().zip(deposit) {
+                            *b = (*b + raise * d).min(255.0);
+                        }
+                    });
             }
-            let mut rng = random::rng(seed, Stream::Droplet, layer as u64, k as u64);
-            *start = if layer == 0 {
-                (
-                    rng.random::<f32>() * total_len,
-                    rng.random::<f32>() * p.mass_max,
-                )
-            } else {
-                // Chang eqs. (16-17): normal steps from the previous layer's
-                // position and mass (independent draws, Box-Muller's two outputs).
-                let (z_pos, z_mass) = random::box_muller(&mut rng);
-                (
-                    start.0 + p.sigma * z_pos,
-                    (start.1 + p.sigma * z_mass).max(0.0),
-                )
-            };
-            start.0 = start.0.rem_euclid(total_len);
-            if start.1 >= p.mass_min {
+        }
+        let mut stats = LayerStats::default();
+        let mut paths = Vec::with_capacity(n);
+        let mut columns = Vec::new();
+        let mut deposit = vec![0.0; input.width * input.height];
+        for round in 0..rounds {
+            // The droplets before this round's diffusion.
+            let batch = (round * n).div_ceil(rounds)..((round + 1) * n).div_ceil(rounds);
+            let mut runners = Vec::with_capacity(batch.len());
+            for k in batch {
+                let mut rng = random::rng(seed, Stream::Droplet, layer as u64, k as u64);
+                let start = &mut starts[k];
+                *start = if layer == 0 {
+                    (
+                        rng.random::<f32>() * total_len,
+                        rng.random::<f32>() * p.mass_max,
+                    )
+                } else {
+                    // Chang eqs. (16-17): normal steps from the previous layer's
+                    // position and mass (independent draws, Box-Muller's two outputs).
+                    let (z_pos, z_mass) = random::box_muller(&mut rng);
+                    (
+                        start.0 + p.sigma * z_pos,
+                        (start.1 + p.sigma * z_mass).max(0.0),
+                    )
+                };
+                start.0 = start.0.rem_euclid(total_len);
+                if start.1 < p.mass_min {
+                    continue;
+                }
                 let (si, u) = sources::pick(&sources, start.0);
                 let (x, y) = sources[si].point(u);
                 // [choice] Chang makes deposition proportional to droplet mass: a
                 // droplet washes dirt off its ledge in proportion to its water,
                 // S_0 = ledge_dirt * m / m_max, so small droplets leave faint runs.
                 let s0 = p.ledge_dirt * (start.1 / p.mass_max).min(1.0);
-                let mut drop = Droplet {
+                stats.dirt_from_ledges += s0 as f64;
+                let drop = Droplet {
                     x,
                     y,
                     vx: 0.0,
@@ -237,37 +214,46 @@ pub fn simulate(
                     m: start.1,
                     s: s0,
                 };
-                stats.dirt_from_ledges += s0 as f64;
-                let trace = droplets::run(&mut wall, &mut drop, p, &mut rng);
+                runners.push(Runner::new(k, drop, rng));
+            }
+            for r in patches::run(&mut wall, runners, &laws, progress)? {
+                let trace = r.trace;
                 stats.droplets += 1;
                 stats.droplet_steps += trace.steps as u64;
                 stats.dirt_lost += trace.dirt_lost as f64;
                 match trace.outcome {
-                    End::Dried => stats.dried += 1,
-                    End::LeftRegion => stats.left_region += 1,
-                    End::StepCap => {}
+                    Some(End::Dried) => stats.dried += 1,
+                    Some(End::LeftRegion) => stats.left_region += 1,
+                    _ => {}
                 }
                 paths.push(Path {
-                    start: (x - 1.0, y - 1.0),
+                    start: (r.start.0 - 1.0, r.start.1 - 1.0),
                     end: (trace.end.0 - 1.0, trace.end.1 - 1.0),
                     steps: trace.steps,
                 });
             }
-            while (round + 1) * n as usize <= (k + 1) * rounds as usize && round < rounds as usize {
-                diffusion_round(&mut wall, p, &carry, rounds);
-                round += 1;
-            }
-        }
-        while round < rounds as usize {
-            diffusion_round(&mut wall, p, &carry, rounds);
-            round += 1;
+            // After the last round, the next rainfall begins in the same pass.
+            let last = round + 1 == rounds;
+            let next = layer + 1;
+            let noise = (last && next < p.layers)
+                .then(|| grime_noise(&wall, p, seed, next))
+                .flatten();
+            let begin =
+                (last && next < p.layers).then(|| Begin::new(p, seed, next, &wall, noise.as_ref()));
+            let output = last.then_some(&mut deposit[..]);
+            columns = diffusion_round(&mut wall, p, rounds, output, begin.as_ref());
+            progress.update(
+                "rain",
+                (layer as f32 + (round + 1) as f32 / rounds as f32) / p.layers as f32,
+            );
         }
 
-        let deposit: Vec<f32> = unpad(&wall, |i| (wall.d[i] - wall.baseline[i]).max(0.0));
-        let positive: Vec<f32> = deposit.iter().copied().filter(|&d| d > 0.0).collect();
-        let area = input.region.iter().filter(|&&r| r).count().max(1);
-        stats.mean_dirt = positive.iter().map(|&d| d as f64).sum::<f64>() / area as f64;
-        stats.max_dirt = positive.iter().copied().fold(0.0, f32::max);
+        // Column sums in column order: the same at any thread count.
+        let (sum, max) = columns
+            .iter()
+            .fold((0.0, 0.0f32), |(s, m), &(cs, cm)| (s + cs, m.max(cm)));
+        stats.mean_dirt = sum / area as f64;
+        stats.max_dirt = max;
         layers.push(RainLayer {
             deposit,
             stats,
@@ -285,53 +271,123 @@ pub fn simulate(
     })
 }
 
-/// Chang eq. (12)'s fresh grime for this rainfall, in storage order, or
-/// `None` when there is none.
-fn fill_grime<'a>(
-    wall: &Wall,
-    p: &RainParams,
-    key: u64,
-    scratch: &'a mut Vec<f32>,
-) -> Option<&'a [f32]> {
-    if p.initial_dirt <= 0.0 {
-        return None;
-    }
-    // Filled in storage order (column-major), i.e. the noise is transposed.
-    let noise = random::Noise::new(
-        key,
-        wall.rows as u32,
-        wall.cols as u32,
-        p.initial_dirt_scale,
-        2,
-    );
-    scratch.resize(wall.d.len(), 0.0);
-    noise.fill(wall.rows, p.initial_dirt, scratch);
-    Some(scratch)
+/// Chang eq. (12)'s fresh grime I_D0 for rainfall `layer`, or `None` when
+/// there is none: smooth noise [choice: fBm, not white noise], transposed to
+/// run down the wall's columns.
+fn grime_noise(wall: &Wall, p: &RainParams, seed: u64, layer: u32) -> Option<random::Noise> {
+    (p.initial_dirt > 0.0).then(|| {
+        let key = random::key(seed, Stream::Grime, layer as u64, 0);
+        let size = (wall.rows as u32, wall.cols as u32);
+        random::Noise::new(key, size.0, size.1, p.initial_dirt_scale, 2)
+    })
 }
 
-/// Eqs. (9-10) diffusion, then in one pass I_sun evaporation and this
-/// round's share of the carried-over dirt (eq. 13's source term) to the dirt
-/// and its baseline.
-fn diffusion_round(wall: &mut Wall, p: &RainParams, carry: &[f32], rounds: u32) {
-    let evaporation = if p.diffusion_rounds > 0 {
-        wall.diffuse(p.tau, p.dirt_coupling, p.diffusion_iterations);
-        p.i_sun
+/// What happens to each pixel before a rainfall: drying, fresh grime and
+/// the carry-over (Chang eqs. 11-14).
+struct Begin<'a> {
+    /// Drying and wind loss xi2, one per rainfall [choice]; 1 for the first.
+    xi2: f32,
+    /// Fresh grime I_D0.
+    grime: Option<random::NoiseLines<'a>>,
+    /// delta * k_D: the share of D carried over (eqs. 13-14).
+    moved: f32,
+}
+
+impl<'a> Begin<'a> {
+    fn new(
+        p: &RainParams,
+        seed: u64,
+        layer: u32,
+        wall: &Wall,
+        noise: Option<&'a random::Noise>,
+    ) -> Begin<'a> {
+        Begin {
+            xi2: if layer > 0 {
+                random::rng(seed, Stream::RainLayer, layer as u64, 0).random()
+            } else {
+                1.0
+            },
+            grime: noise.map(|n| n.lines(wall.rows, p.initial_dirt)),
+            moved: p.delta * (1.0 - p.k_s),
+        }
+    }
+
+    /// Chang eqs. (11-12): w and D dry by xi2 and fresh grime settles.
+    /// Eqs. (13-14): delta * k_D * D moves into this layer's source term
+    /// I_D, returned to the wall over the rainfall's diffusion rounds. The
+    /// baseline is what the dirt would be without droplets: diffused and
+    /// topped up like D. The layer's deposit is D minus it, so the stain
+    /// shows what the rain moved, not the smoothing of old grime.
+    fn column(&self, col: &mut Column) {
+        let mut grime = Vec::new();
+        if let Some(lines) = &self.grime {
+            grime.resize(col.d.len(), 0.0);
+            lines.line(col.x, &mut grime);
+        }
+        for y in 0..col.d.len() {
+            col.w[y] *= self.xi2;
+            let mut d = col.d[y] * self.xi2;
+            if let Some(g) = grime.get(y) {
+                d += g * col.inside[y];
+            }
+            let c = self.moved * d;
+            col.carry[y] = c;
+            col.d[y] = d - c;
+            col.baseline[y] = d - c;
+        }
+    }
+}
+
+/// Eqs. (9-10) diffusion; on each finished column, I_sun evaporation and
+/// this round's share of the carried-over dirt (eq. 13's source term) to the
+/// dirt and its baseline. After the rainfall's last round, also the
+/// rainfall's deposit into `deposit` (column-major) and the start of the
+/// next rainfall (`begin`). Returns each column's deposit sum and maximum
+/// (zero but after the last round).
+fn diffusion_round(
+    wall: &mut Wall,
+    p: &RainParams,
+    rounds: usize,
+    deposit: Option<&mut [f32]>,
+    begin: Option<&Begin>,
+) -> Vec<(f64, f32)> {
+    let (iterations, evaporation) = if p.diffusion_rounds > 0 {
+        (p.diffusion_iterations, p.i_sun)
     } else {
-        0.0
+        (0, 0.0)
     };
     let share = 1.0 / rounds as f32;
-    wall.w
-        .par_iter_mut()
-        .zip(&mut wall.d)
-        .zip(&mut wall.baseline)
-        .zip(carry)
-        .for_each(|(((w, d), base), c)| {
-            if evaporation > 0.0 {
-                *w = (*w - evaporation).max(0.0);
-            }
+    let last = deposit.is_some();
+    wall.diffuse(p.tau, p.dirt_coupling, iterations, deposit, |mut col| {
+        if evaporation > 0.0 {
+            col.w
+                .iter_mut()
+                .for_each(|w| *w = (*w - evaporation).max(0.0));
+        }
+        for ((d, base), c) in col
+            .d
+            .iter_mut()
+            .zip(col.baseline.iter_mut())
+            .zip(&*col.carry)
+        {
             *d += c * share;
             *base += c * share;
-        });
+        }
+        if !last {
+            return (0.0, 0.0);
+        }
+        let (mut sum, mut max) = (0.0, 0.0f32);
+        let (d, base) = (&col.d[1..], &col.baseline[1..]);
+        for ((dep, d), base) in col.output.iter_mut().zip(d).zip(base) {
+            *dep = (d - base).max(0.0);
+            sum += *dep as f64;
+            max = max.max(*dep);
+        }
+        if let Some(begin) = begin {
+            begin.column(&mut col);
+        }
+        (sum, max)
+    })
 }
 
 /// Copies the unpadded interior of a padded (column-major) wall field into
@@ -345,9 +401,11 @@ fn unpad(wall: &Wall, f: impl Fn(usize) -> f32 + Sync) -> Vec<f32> {
         .for_each(|(band, rows)| {
             let y0 = band * TILE;
             let band_h = rows.len() / w;
+            // Rows outer: a photo-sized row stride is often a power of two,
+            // and strided writes would then all land in one cache set.
             for x0 in (0..w).step_by(TILE) {
-                for x in x0..(x0 + TILE).min(w) {
-                    for dy in 0..band_h {
+                for dy in 0..band_h {
+                    for x in x0..(x0 + TILE).min(w) {
                         rows[dy * w + x] = f(wall.idx(x + 1, y0 + dy + 1));
                     }
                 }

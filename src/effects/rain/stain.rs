@@ -25,60 +25,126 @@ pub fn d_max(layers: &[RainLayer], percentile: f32) -> f32 {
     1.0
 }
 
-/// Coverage in 0..1 per grid pixel for one rainfall's deposits.
-pub fn coverage(
-    deposit: &[f32],
+/// Stain coverage for each rainfall in turn, reusing its buffers.
+#[derive(Debug)]
+pub struct Coverage {
     width: usize,
     height: usize,
-    d_max: f32,
-    p: &StainParams,
-) -> Vec<f32> {
-    let alpha: Vec<f32> = deposit
-        .iter()
-        .map(|&d| (p.strength * d / d_max).clamp(0.0, 1.0))
-        .collect();
-    blur(alpha, width, height, p.softness)
+    columns: Vec<f32>,
+    rows: Vec<f32>,
 }
 
-/// Separable Gaussian blur with standard deviation `sigma`, edges clamped.
-pub fn blur(mut values: Vec<f32>, width: usize, height: usize, sigma: f32) -> Vec<f32> {
-    if sigma <= 0.0 || width == 0 || height == 0 {
-        return values;
+impl Coverage {
+    /// Coverage for deposits on a `width` x `height` grid.
+    pub fn new(width: usize, height: usize) -> Coverage {
+        Coverage {
+            width,
+            height,
+            columns: vec![0.0; width * height],
+            rows: vec![0.0; width * height],
+        }
     }
-    let radius = (3.0 * sigma).ceil() as isize;
-    let mut kernel: Vec<f32> = (-radius..=radius)
-        .map(|i| (-(i * i) as f32 / (2.0 * sigma * sigma)).exp())
+
+    /// Coverage in 0..1 per grid pixel, row-major, for one rainfall's
+    /// `deposit` (column-major, as in [`RainLayer::deposit`]).
+    pub fn of(&mut self, deposit: &[f32], d_max: f32, p: &StainParams) -> &[f32] {
+        let strength = p.strength;
+        let alpha = |d: f32| (strength * d / d_max).clamp(0.0, 1.0);
+        blur_transposed(
+            deposit,
+            (self.width, self.height),
+            p.softness,
+            alpha,
+            &mut self.columns,
+            &mut self.rows,
+        );
+        &self.rows
+    }
+}
+
+/// Outputs a blur pass computes together.
+const RUN: usize = 16;
+
+/// Separable Gaussian blur with standard deviation `sigma` (edges clamped)
+/// of `map(v)` for each value of `values`, a column-major grid of `size`
+/// (width, height), into `out` in row-major order; `tmp` is a buffer.
+pub fn blur_transposed(
+    values: &[f32],
+    size: (usize, usize),
+    sigma: f32,
+    map: impl Fn(f32) -> f32 + Sync,
+    tmp: &mut [f32],
+    out: &mut [f32],
+) {
+    let (width, height) = size;
+    if width == 0 || height == 0 {
+        return;
+    }
+    let radius = if sigma > 0.0 {
+        (3.0 * sigma).ceil() as usize
+    } else {
+        0
+    };
+    let mut kernel: Vec<f32> = (0..=2 * radius)
+        .map(|i| {
+            let d = i as f32 - radius as f32;
+            if sigma > 0.0 {
+                (-(d * d) / (2.0 * sigma * sigma)).exp()
+            } else {
+                1.0
+            }
+        })
         .collect();
     let sum: f32 = kernel.iter().sum();
     kernel.iter_mut().for_each(|k| *k /= sum);
-    let clamp = |i: isize, n: usize| i.clamp(0, n as isize - 1) as usize;
-    // Horizontal pass, row by row.
-    let mut tmp = vec![0.0; values.len()];
-    tmp.par_chunks_mut(width)
-        .zip(values.par_chunks(width))
-        .for_each(|(out, row)| {
-            for (x, o) in out.iter_mut().enumerate() {
-                *o = kernel
-                    .iter()
-                    .enumerate()
-                    .map(|(k, w)| w * row[clamp(x as isize + k as isize - radius, width)])
-                    .sum();
-            }
-        });
-    // Vertical pass, row by row over whole rows (cache-friendly).
-    values
-        .par_chunks_mut(width)
-        .enumerate()
-        .for_each(|(y, out)| {
+    // Down each column, through a copy padded with its end values.
+    tmp.par_chunks_mut(height)
+        .zip(values.par_chunks(height))
+        .for_each_init(Vec::new, |padded, (out, column)| {
+            padded.clear();
+            padded.resize(radius, map(column[0]));
+            padded.extend(column.iter().map(|&v| map(v)));
+            padded.resize(height + 2 * radius, map(column[height - 1]));
             out.fill(0.0);
             for (k, w) in kernel.iter().enumerate() {
-                let src = clamp(y as isize + k as isize - radius, height);
-                for (o, v) in out.iter_mut().zip(&tmp[src * width..(src + 1) * width]) {
+                for (o, v) in out.iter_mut().zip(&padded[k..k + height]) {
                     *o += w * v;
                 }
             }
         });
-    values
+    // Across the columns, a band of output rows at a time, in tiles that
+    // are written out row by row.
+    const BAND: usize = RUN;
+    const TILE: usize = 64;
+    let tmp = &*tmp;
+    out.par_chunks_mut(BAND * width)
+        .enumerate()
+        .for_each(|(band, out)| {
+            let y0 = band * BAND;
+            let rows = out.len() / width;
+            let mut tile = [0.0f32; BAND * TILE];
+            let mut acc = [0.0f32; BAND];
+            for x0 in (0..width).step_by(TILE) {
+                let cols = TILE.min(width - x0);
+                for dx in 0..cols {
+                    acc.fill(0.0);
+                    for (k, w) in kernel.iter().enumerate() {
+                        let c = (x0 + dx + k).saturating_sub(radius).min(width - 1);
+                        let src = &tmp[c * height + y0..c * height + y0 + rows];
+                        for (a, v) in acc.iter_mut().zip(src) {
+                            *a += w * v;
+                        }
+                    }
+                    for (dy, a) in acc[..rows].iter().enumerate() {
+                        tile[dy * TILE + dx] = *a;
+                    }
+                }
+                for dy in 0..rows {
+                    out[dy * width + x0..dy * width + x0 + cols]
+                        .copy_from_slice(&tile[dy * TILE..dy * TILE + cols]);
+                }
+            }
+        });
 }
 
 #[cfg(test)]
@@ -110,15 +176,21 @@ mod tests {
             strength: 1.0,
             ..StainParams::default()
         };
-        let a = coverage(&[0.0, 1.0, 2.0, 10.0], 4, 1, 4.0, &p);
-        assert_eq!(a, vec![0.0, 0.25, 0.5, 1.0]);
+        let mut cov = Coverage::new(4, 1);
+        assert_eq!(
+            cov.of(&[0.0, 1.0, 2.0, 10.0], 4.0, &p),
+            [0.0, 0.25, 0.5, 1.0]
+        );
     }
 
     #[test]
     fn blur_matches_a_plain_2d_convolution() {
         let (w, h, sigma) = (9, 7, 1.2f32);
         let v: Vec<f32> = (0..w * h).map(|i| ((i * 31) % 17) as f32).collect();
-        let got = blur(v.clone(), w, h, sigma);
+        // The input column-major, the output row-major.
+        let columns: Vec<f32> = (0..w * h).map(|i| v[(i % h) * w + i / h]).collect();
+        let (mut tmp, mut got) = (vec![0.0; w * h], vec![0.0; w * h]);
+        blur_transposed(&columns, (w, h), sigma, |v| v, &mut tmp, &mut got);
         let r = (3.0 * sigma).ceil() as isize;
         let g = |i: isize| (-(i * i) as f32 / (2.0 * sigma * sigma)).exp();
         let norm: f32 = (-r..=r).map(g).sum();
@@ -147,7 +219,8 @@ mod tests {
         };
         let mut d = vec![0.0; 21 * 21];
         d[10 * 21 + 10] = 0.5;
-        let a = coverage(&d, 21, 21, 1.0, &p);
+        let mut cov = Coverage::new(21, 21);
+        let a = cov.of(&d, 1.0, &p);
         assert!(a[10 * 21 + 11] > 0.0, "edge is soft");
         let total: f32 = a.iter().sum();
         assert!((total - 0.5).abs() < 0.02, "{total}");
