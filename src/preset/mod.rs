@@ -118,7 +118,9 @@ pub struct RainParams {
     pub eps: f32,
     /// Diffusion rate tau per neighbour (eqs. 9-10); at most 1/8.
     pub tau: f32,
-    /// Diffusion rounds per layer (spread over the rainfall).
+    /// Diffusion rounds per layer, spread evenly over its droplets
+    /// [choice: one, after the rainfall's droplets; Chang diffuses every
+    /// time step and leaves the iteration count open].
     pub diffusion_rounds: u32,
     /// Relaxation iterations per round.
     pub diffusion_iterations: u32,
@@ -157,7 +159,7 @@ impl Default for RainParams {
             delta: 0.01,
             eps: 0.3,
             tau: 0.1,
-            diffusion_rounds: 2,
+            diffusion_rounds: 1,
             diffusion_iterations: 3,
             dirt_coupling: 0.5,
             top_edge: true,
