@@ -82,8 +82,8 @@ pub fn run(
 
 /// Patches one thread runs at once, a step of each in turn: their droplets
 /// are independent, so the processor overlaps their steps (one droplet's
-/// step is a chain of dependent operations that would leave it mostly idle).
-const LANES: usize = 4;
+/// step is a chain of dependent arithmetic that leaves it mostly waiting).
+const LANES: usize = 2;
 
 /// A patch and its queue of droplets.
 struct Lane<'a> {
@@ -93,27 +93,36 @@ struct Lane<'a> {
     next: usize,
 }
 
-/// Runs the lanes' queues to the end, a step of each lane's current droplet
-/// in turn.
+/// Runs the lanes' queues (two at most) to the end, stepping their current
+/// droplets in turn.
 fn interleave(lanes: &mut [Lane], laws: &Laws, progress: &Progress) -> Result<()> {
-    let mut started = 0;
+    let mut finished = 0;
     loop {
-        let mut active = false;
-        for lane in lanes.iter_mut() {
-            let Some(r) = lane.queue.get_mut(lane.next) else {
-                continue;
-            };
-            active = true;
-            if !r.step(&mut lane.patch, laws) {
-                lane.next += 1;
-                started += 1;
-                if started % 32 == 0 {
-                    progress.check()?;
+        let mut busy = lanes.iter_mut().filter(|l| l.next < l.queue.len());
+        match (busy.next(), busy.next()) {
+            (None, _) => return Ok(()),
+            (Some(a), None) => {
+                a.queue[a.next].run(&mut a.patch, laws);
+                a.next += 1;
+                finished += 1;
+            }
+            (Some(a), Some(b)) => {
+                let (ra, pa) = (&mut a.queue[a.next], &mut a.patch);
+                let (rb, pb) = (&mut b.queue[b.next], &mut b.patch);
+                loop {
+                    let (going_a, going_b) = (ra.step(pa, laws), rb.step(pb, laws));
+                    if !going_a || !going_b {
+                        a.next += usize::from(!going_a);
+                        b.next += usize::from(!going_b);
+                        finished += usize::from(!going_a) + usize::from(!going_b);
+                        break;
+                    }
                 }
             }
         }
-        if !active {
-            return Ok(());
+        if finished >= 32 {
+            finished = 0;
+            progress.check()?;
         }
     }
 }
