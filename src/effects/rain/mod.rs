@@ -261,13 +261,17 @@ pub fn simulate(
         });
     }
     progress.update("rain", 1.0);
+    // The outputs go into buffers the wall no longer needs: fresh ones cost
+    // page faults.
+    let [water, dirt, roughness] =
+        [&mut wall.carry, &mut wall.baseline, &mut wall.inside].map(std::mem::take);
     Ok(RainOutput {
         width: input.width,
         height: input.height,
         layers,
-        water: unpad(&wall, |i| wall.w[i]),
-        dirt: unpad(&wall, |i| wall.d[i]),
-        roughness_y: unpad(&wall, |i| wall.roughness(i).1),
+        water: unpad(&wall, |i| wall.w[i], water),
+        dirt: unpad(&wall, |i| wall.d[i], dirt),
+        roughness_y: unpad(&wall, |i| wall.roughness(i).1, roughness),
     })
 }
 
@@ -391,11 +395,12 @@ fn diffusion_round(
 }
 
 /// Copies the unpadded interior of a padded (column-major) wall field into
-/// a row-major grid, tile by tile so reads and writes both stay in cache.
-fn unpad(wall: &Wall, f: impl Fn(usize) -> f32 + Sync) -> Vec<f32> {
+/// a row-major grid (reusing `out`), tile by tile so reads and writes both
+/// stay in cache.
+fn unpad(wall: &Wall, f: impl Fn(usize) -> f32 + Sync, mut out: Vec<f32>) -> Vec<f32> {
     const TILE: usize = 32;
     let (w, h) = (wall.cols - 2, wall.rows - 2);
-    let mut out = vec![0.0; w * h];
+    out.resize(w * h, 0.0);
     out.par_chunks_mut(w * TILE)
         .enumerate()
         .for_each(|(band, rows)| {

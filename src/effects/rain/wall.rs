@@ -43,9 +43,6 @@ pub struct Wall {
     /// Dirt carried over into the current rainfall (eqs. 13-14), returned
     /// to the wall over its diffusion rounds.
     pub carry: Vec<f32>,
-    scratch_w: Vec<f32>,
-    scratch_d: Vec<f32>,
-    scratch_baseline: Vec<f32>,
 }
 
 /// One column of the wall's per-pixel state (storage order), handed to the
@@ -114,9 +111,6 @@ impl Wall {
             d: vec![0.0; n],
             baseline: vec![0.0; n],
             carry: vec![0.0; n],
-            scratch_w: vec![0.0; n],
-            scratch_d: vec![0.0; n],
-            scratch_baseline: vec![0.0; n],
         }
     }
 
@@ -230,64 +224,53 @@ impl Wall {
         }
         let (rows, cols) = (self.rows, self.cols);
         let tau_d = tau * coupling;
-        for out in [
-            &mut self.scratch_w,
-            &mut self.scratch_d,
-            &mut self.scratch_baseline,
-        ] {
-            out[..rows].fill(0.0);
-            out[(cols - 1) * rows..].fill(0.0);
-        }
         let sweep = Sweep {
             kept: &self.kept,
             stride: rows,
             iterations: iterations as usize,
         };
-        let (w, d, baseline) = (&self.w, &self.d, &self.baseline);
+        // Each chunk reads the lines around it as they were before any chunk
+        // wrote its own.
+        let [w_halos, d_halos, b_halos] =
+            [&self.w, &self.d, &self.baseline].map(|field| sweep.halos(field));
         let body = rows..(cols - 1) * rows;
         let span = CHUNK * rows;
-        let results: Vec<Vec<R>> = self.scratch_w[body.clone()]
+        let results: Vec<Vec<R>> = self.w[body.clone()]
             .par_chunks_mut(span)
-            .zip(self.scratch_d[body.clone()].par_chunks_mut(span))
-            .zip(self.scratch_baseline[body.clone()].par_chunks_mut(span))
+            .zip(self.d[body.clone()].par_chunks_mut(span))
+            .zip(self.baseline[body.clone()].par_chunks_mut(span))
             .zip(self.carry[body.clone()].par_chunks_mut(span))
             .zip(self.inside[body].par_chunks(span))
             .zip(output_columns(output, cols - 2, rows - 2, CHUNK))
             .enumerate()
-            .map(
-                |(c, (((((w_out, d_out), b_out), carry), inside), output))| {
-                    let a = 1 + c * CHUNK;
-                    let lines = a..a + w_out.len() / rows;
-                    let mut buffers = Vec::new();
-                    sweep.run(w, w_out, tau, lines.clone(), &mut buffers);
-                    sweep.run(d, d_out, tau_d, lines.clone(), &mut buffers);
-                    sweep.run(baseline, b_out, tau_d, lines.clone(), &mut buffers);
-                    w_out
-                        .chunks_mut(rows)
-                        .zip(d_out.chunks_mut(rows))
-                        .zip(b_out.chunks_mut(rows))
-                        .zip(carry.chunks_mut(rows))
-                        .zip(inside.chunks(rows))
-                        .zip(output_columns(Some(output), lines.len(), rows - 2, 1))
-                        .zip(lines)
-                        .map(|((((((w, d), baseline), carry), inside), output), x)| {
-                            finish(Column {
-                                x,
-                                inside,
-                                w,
-                                d,
-                                baseline,
-                                carry,
-                                output,
-                            })
+            .map(|(c, (((((w, d), baseline), carry), inside), output))| {
+                let a = 1 + c * CHUNK;
+                let lines = a..a + w.len() / rows;
+                let mut buffers = Vec::new();
+                sweep.run(w, &w_halos[c], tau, a, &mut buffers);
+                sweep.run(d, &d_halos[c], tau_d, a, &mut buffers);
+                sweep.run(baseline, &b_halos[c], tau_d, a, &mut buffers);
+                w.chunks_mut(rows)
+                    .zip(d.chunks_mut(rows))
+                    .zip(baseline.chunks_mut(rows))
+                    .zip(carry.chunks_mut(rows))
+                    .zip(inside.chunks(rows))
+                    .zip(output_columns(Some(output), lines.len(), rows - 2, 1))
+                    .zip(lines)
+                    .map(|((((((w, d), baseline), carry), inside), output), x)| {
+                        finish(Column {
+                            x,
+                            inside,
+                            w,
+                            d,
+                            baseline,
+                            carry,
+                            output,
                         })
-                        .collect()
-                },
-            )
+                    })
+                    .collect()
+            })
             .collect();
-        std::mem::swap(&mut self.w, &mut self.scratch_w);
-        std::mem::swap(&mut self.d, &mut self.scratch_d);
-        std::mem::swap(&mut self.baseline, &mut self.scratch_baseline);
         results.into_iter().flatten().collect()
     }
 }
@@ -347,40 +330,58 @@ struct Sweep<'a> {
     iterations: usize,
 }
 
+/// The lines a chunk of [`Sweep::run`] reads beyond its own: before and
+/// after it.
+type Halo = (Vec<f32>, Vec<f32>);
+
 impl Sweep<'_> {
-    /// Output lines `out_lines` of the sweeps of `src`, into `out`.
-    fn run(
-        &self,
-        src: &[f32],
-        out: &mut [f32],
-        tau: f32,
-        out_lines: std::ops::Range<usize>,
-        buffers: &mut Vec<f32>,
-    ) {
+    /// The lines of the window around chunk `a..b` outside it.
+    fn window(&self, a: usize) -> (usize, usize, usize) {
+        let lines = self.kept.len() / self.stride;
+        let b = (a + CHUNK).min(lines - 1);
+        (
+            a.saturating_sub(self.iterations),
+            b,
+            (b + self.iterations).min(lines),
+        )
+    }
+
+    /// Every chunk's [`Halo`] in `field`.
+    fn halos(&self, field: &[f32]) -> Vec<Halo> {
+        let lines = self.kept.len() / self.stride;
+        (1..lines - 1)
+            .step_by(CHUNK)
+            .map(|a| {
+                let (lo, b, hi) = self.window(a);
+                let s = self.stride;
+                (field[lo * s..a * s].to_vec(), field[b * s..hi * s].to_vec())
+            })
+            .collect()
+    }
+
+    /// The sweeps of the chunk `lines` (its lines, from line `a`), in place,
+    /// with its `halo`.
+    fn run(&self, lines: &mut [f32], halo: &Halo, tau: f32, a: usize, buffers: &mut Vec<f32>) {
         let (stride, iterations) = (self.stride, self.iterations);
-        let lines = self.kept.len() / stride;
-        let (a, b) = (out_lines.start, out_lines.end);
-        // Window of lines that level 0 must cover; the padding lines are zero.
-        let lo = a.saturating_sub(iterations);
-        let hi = (b + iterations).min(lines);
+        let (lo, b, hi) = self.window(a);
         let span = (hi - lo) * stride;
         buffers.clear();
+        buffers.extend_from_slice(&halo.0);
+        buffers.extend_from_slice(lines);
+        buffers.extend_from_slice(&halo.1);
         buffers.resize(2 * span, 0.0);
         let (mut prev, mut next) = buffers.split_at_mut(span);
         let mut sums = Vec::with_capacity(stride);
+        let last_line = self.kept.len() / stride - 1;
         for k in 1..=iterations {
             let reach = iterations - k;
             let first = a.saturating_sub(reach).max(1);
-            let last = (b + reach).min(lines - 1);
+            let last = (b + reach).min(last_line);
             for j in first..last {
                 let kept = &self.kept[j * stride..(j + 1) * stride];
-                let window = if k == 1 {
-                    &src[(j - 1) * stride..(j + 2) * stride]
-                } else {
-                    &prev[(j - 1 - lo) * stride..(j + 2 - lo) * stride]
-                };
+                let window = &prev[(j - 1 - lo) * stride..(j + 2 - lo) * stride];
                 let dst = if k == iterations {
-                    &mut out[(j - a) * stride..(j - a + 1) * stride]
+                    &mut lines[(j - a) * stride..(j - a + 1) * stride]
                 } else {
                     &mut next[(j - lo) * stride..(j - lo + 1) * stride]
                 };
