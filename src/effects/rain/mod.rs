@@ -323,21 +323,24 @@ impl<'a> Begin<'a> {
     /// topped up like D. The layer's deposit is D minus it, so the stain
     /// shows what the rain moved, not the smoothing of old grime.
     fn column(&self, col: &mut Column) {
-        let mut grime = Vec::new();
-        if let Some(lines) = &self.grime {
-            grime.resize(col.d.len(), 0.0);
-            lines.line(col.x, &mut grime);
+        // The carry is rewritten below, so it holds the grime until then.
+        match &self.grime {
+            Some(lines) => lines.line(col.x, col.carry),
+            None => col.carry.fill(0.0),
         }
-        for y in 0..col.d.len() {
-            col.w[y] *= self.xi2;
-            let mut d = col.d[y] * self.xi2;
-            if let Some(g) = grime.get(y) {
-                d += g * col.inside[y];
-            }
-            let c = self.moved * d;
-            col.carry[y] = c;
-            col.d[y] = d - c;
-            col.baseline[y] = d - c;
+        for ((((w, d), base), carry), inside) in col
+            .w
+            .iter_mut()
+            .zip(col.d.iter_mut())
+            .zip(col.baseline.iter_mut())
+            .zip(col.carry.iter_mut())
+            .zip(col.inside)
+        {
+            *w *= self.xi2;
+            let fresh = *d * self.xi2 + *carry * inside;
+            *carry = self.moved * fresh;
+            *d = fresh - *carry;
+            *base = *d;
         }
     }
 }

@@ -76,31 +76,39 @@ impl Wall {
         let n = cols * rows;
         let mut inside = vec![0.0; n];
         let mut b = vec![0.0; n];
-        for x in 0..cols {
-            // Padding replicates the edge (eq. 1 "clamp the index").
-            let sx = x.clamp(1, width) - 1;
-            for y in 0..rows {
-                let sy = y.clamp(1, height) - 1;
-                b[x * rows + y] = luma[sy * width + sx];
-                if (1..=height).contains(&y) && (1..=width).contains(&x) && region[sy * width + sx]
-                {
-                    inside[x * rows + y] = 1.0;
+        b.par_chunks_mut(rows)
+            .zip(inside.par_chunks_mut(rows))
+            .enumerate()
+            .for_each(|(x, (b, inside))| {
+                // Padding replicates the edge (eq. 1 "clamp the index").
+                let sx = x.clamp(1, width) - 1;
+                let interior = (1..=width).contains(&x);
+                for (y, (b, inside)) in b.iter_mut().zip(inside).enumerate() {
+                    let sy = y.clamp(1, height) - 1;
+                    *b = luma[sy * width + sx];
+                    if interior && (1..=height).contains(&y) && region[sy * width + sx] {
+                        *inside = 1.0;
+                    }
                 }
-            }
-        }
+            });
         let mut kept = vec![0.0; n];
-        for x in 1..cols - 1 {
-            for y in 1..rows - 1 {
-                if inside[x * rows + y] == 0.0 {
-                    continue;
+        kept[rows..(cols - 1) * rows]
+            .par_chunks_mut(rows)
+            .enumerate()
+            .for_each(|(k, kept)| {
+                let x = k + 1;
+                for (y, kept) in kept.iter_mut().enumerate().take(rows - 1).skip(1) {
+                    if inside[x * rows + y] == 0.0 {
+                        continue;
+                    }
+                    let mut count = 1.0;
+                    for (dx, dy) in NEIGHBOURS {
+                        let (nx, ny) = ((x as isize + dx) as usize, (y as isize + dy) as usize);
+                        count += inside[nx * rows + ny];
+                    }
+                    *kept = count;
                 }
-                let mut count = 1.0;
-                for (dx, dy) in NEIGHBOURS {
-                    count += inside[(x as isize + dx) as usize * rows + (y as isize + dy) as usize];
-                }
-                kept[x * rows + y] = count;
-            }
-        }
+            });
         Wall {
             cols,
             rows,
