@@ -2,9 +2,9 @@
 //! count.
 //!
 //! The wall is cut into patches of whole columns, [`BAND`] x 2 wide. The
-//! droplets of a batch are queued on the patch of their column, in their
-//! order, and each patch runs its queue alone, so patches can run in
-//! parallel. A droplet that steps out of its patch is parked; once every
+//! droplets of a batch (those before a diffusion round) are queued on the
+//! patch of their column, in their order, and each patch runs its queue
+//! alone, so patches can run in parallel. A droplet that steps out of its patch is parked; once every
 //! patch is done, parked droplets resume on patches shifted by one band, so
 //! the border they crossed is now in the middle of a patch. This repeats
 //! until every droplet has finished.

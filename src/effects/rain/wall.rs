@@ -30,6 +30,8 @@ pub struct Wall {
     /// 1 + the number of region pixels among the 8 neighbours (the pixel
     /// itself plus those it sends water to); 0 outside the region.
     kept: Vec<f32>,
+    /// Per column: every pixel but the padding is in the region.
+    whole: Vec<bool>,
     /// Luminance height field B in 0..255.
     pub b: Vec<f32>,
     /// Absorbed water w.
@@ -109,11 +111,16 @@ impl Wall {
                     *kept = count;
                 }
             });
+        let whole = kept
+            .chunks(rows)
+            .map(|column| column[1..rows - 1].iter().all(|&k| k > 0.0))
+            .collect();
         Wall {
             cols,
             rows,
             inside,
             kept,
+            whole,
             b,
             w: vec![0.0; n],
             d: vec![0.0; n],
@@ -234,6 +241,7 @@ impl Wall {
         let tau_d = tau * coupling;
         let sweep = Sweep {
             kept: &self.kept,
+            whole: &self.whole,
             stride: rows,
             iterations: iterations as usize,
         };
@@ -334,6 +342,7 @@ const CHUNK: usize = 32;
 /// not matter.
 struct Sweep<'a> {
     kept: &'a [f32],
+    whole: &'a [bool],
     stride: usize,
     iterations: usize,
 }
@@ -393,7 +402,7 @@ impl Sweep<'_> {
                 } else {
                     &mut next[(j - lo) * stride..(j - lo + 1) * stride]
                 };
-                relax_line(window, kept, dst, tau, &mut sums);
+                relax_line(window, kept, self.whole[j], dst, tau, &mut sums);
             }
             std::mem::swap(&mut prev, &mut next);
         }
@@ -401,9 +410,17 @@ impl Sweep<'_> {
 }
 
 /// Eqs. (9-10) for one line; `src` holds the line before, the line and the
-/// line after, `kept` is [`Wall::kept`] for the line, `sums` a buffer.
+/// line after, `kept` is [`Wall::kept`] for the line (`whole` when all of it
+/// but the padding is in the region), `sums` a buffer.
 #[inline]
-fn relax_line(src: &[f32], kept: &[f32], out: &mut [f32], tau: f32, sums: &mut Vec<f32>) {
+fn relax_line(
+    src: &[f32],
+    kept: &[f32],
+    whole: bool,
+    out: &mut [f32],
+    tau: f32,
+    sums: &mut Vec<f32>,
+) {
     let stride = kept.len();
     let (up, mid, down) = (&src[..stride], &src[stride..2 * stride], &src[2 * stride..]);
     // The 3x3 sum as three sums across the lines, added along the line.
@@ -415,12 +432,17 @@ fn relax_line(src: &[f32], kept: &[f32], out: &mut [f32], tau: f32, sums: &mut V
     let n = stride - 2;
     let (kept, out, c) = (&kept[1..=n], &mut out[1..=n], &mid[1..=n]);
     let (s0, s1, s2) = (&sums[..n], &sums[1..=n], &sums[2..]);
-    for i in 0..n {
-        let s9 = s0[i] + s1[i] + s2[i];
-        // Chang eqs. (9-10): send tau*w to each region neighbour, receive
-        // theirs: w + tau (sum of the 8 - n w) = w + tau (s9 - (1 + n) w).
-        let v = c[i] + tau * (s9 - kept[i] * c[i]);
-        out[i] = if kept[i] == 0.0 { 0.0 } else { v };
+    // Chang eqs. (9-10): send tau*w to each region neighbour, receive
+    // theirs: w + tau (sum of the 8 - n w) = w + tau (s9 - (1 + n) w).
+    let relaxed = |i: usize| c[i] + tau * ((s0[i] + s1[i] + s2[i]) - kept[i] * c[i]);
+    if whole {
+        for (i, out) in out.iter_mut().enumerate() {
+            *out = relaxed(i);
+        }
+    } else {
+        for (i, out) in out.iter_mut().enumerate() {
+            *out = if kept[i] == 0.0 { 0.0 } else { relaxed(i) };
+        }
     }
 }
 
