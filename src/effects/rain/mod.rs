@@ -235,11 +235,11 @@ pub fn simulate(
             // After the last round, the next rainfall begins in the same pass.
             let last = round + 1 == rounds;
             let next = layer + 1;
-            let noise = (last && next < p.layers)
+            let begins_next = last && next < p.layers;
+            let noise = begins_next
                 .then(|| grime_noise(&wall, p, seed, next))
                 .flatten();
-            let begin =
-                (last && next < p.layers).then(|| Begin::new(p, seed, next, &wall, noise.as_ref()));
+            let begin = begins_next.then(|| Begin::new(p, seed, next, &wall, noise.as_ref()));
             let output = last.then_some(&mut deposit[..]);
             columns = diffusion_round(&mut wall, p, rounds, output, begin.as_ref());
             progress.update(

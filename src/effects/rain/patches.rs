@@ -4,9 +4,10 @@
 //! The wall is cut into patches of whole columns, [`BAND`] x 2 wide. The
 //! droplets of a batch (those before a diffusion round) are queued on the
 //! patch of their column, in their order, and each patch runs its queue
-//! alone, so patches can run in parallel. A droplet that steps out of its patch is parked; once every
-//! patch is done, parked droplets resume on patches shifted by one band, so
-//! the border they crossed is now in the middle of a patch. This repeats
+//! alone, so patches can run in parallel. A droplet that steps out of its
+//! patch is parked; once every patch is done, parked droplets resume on
+//! patches shifted by one band, so the border they crossed is now in the
+//! middle of a patch. This repeats
 //! until every droplet has finished.
 //!
 //! The cut depends only on the wall's width, never on the number of threads.
@@ -44,8 +45,7 @@ pub fn run(
         let bounds = bounds(wall.cols, shifted);
         let mut queues: Vec<Vec<Runner>> = vec![Vec::new(); bounds.len() - 1];
         for r in runners.drain(..) {
-            let patch = (r.column().min(wall.cols - 1) + BAND * usize::from(shifted)) / (2 * BAND);
-            queues[patch].push(r);
+            queues[patch_of(r.column().min(wall.cols - 1), shifted)].push(r);
         }
         let lanes: Vec<Lane> = wall
             .patches(&bounds)
@@ -127,6 +127,11 @@ fn interleave(lanes: &mut [Lane], laws: &Laws, progress: &Progress) -> Result<()
     }
 }
 
+/// The patch holding `column` among those cut at [`bounds`].
+fn patch_of(column: usize, shifted: bool) -> usize {
+    (column + BAND * usize::from(shifted)) / (2 * BAND)
+}
+
 /// Patch borders for a wall `cols` columns wide: every 2 bands, or every 2
 /// bands offset by one.
 fn bounds(cols: usize, shifted: bool) -> Vec<usize> {
@@ -151,7 +156,7 @@ mod tests {
         for shifted in [false, true] {
             let b = bounds(300, shifted);
             for c in 0..300 {
-                let p = (c + BAND * usize::from(shifted)) / (2 * BAND);
+                let p = patch_of(c, shifted);
                 assert!(b[p] <= c && c < b[p + 1], "column {c}, shifted {shifted}");
             }
         }
