@@ -183,29 +183,7 @@ impl Wall {
         R: Send,
         F: Fn(Column) -> R + Sync,
     {
-        let rows = self.rows;
-        let body = rows..(self.cols - 1) * rows;
-        let outputs = output_columns(output, self.cols - 2, rows - 2, 1);
-        self.w[body.clone()]
-            .par_chunks_mut(rows)
-            .zip(self.d[body.clone()].par_chunks_mut(rows))
-            .zip(self.baseline[body.clone()].par_chunks_mut(rows))
-            .zip(self.carry[body.clone()].par_chunks_mut(rows))
-            .zip(self.inside[body].par_chunks(rows))
-            .zip(outputs)
-            .enumerate()
-            .map(|(k, (((((w, d), baseline), carry), inside), output))| {
-                f(Column {
-                    x: k + 1,
-                    inside,
-                    w,
-                    d,
-                    baseline,
-                    carry,
-                    output,
-                })
-            })
-            .collect()
+        self.fields().chunks(output, |chunk| chunk.columns(&f))
     }
 
     /// Runs `iterations` relaxation sweeps of Chang eqs. (9-10): each region
@@ -237,18 +215,81 @@ impl Wall {
         if iterations == 0 {
             return self.columns(output, finish);
         }
-        let (rows, cols) = (self.rows, self.cols);
-        let tau_d = tau * coupling;
         let sweep = Sweep {
             kept: &self.kept,
             whole: &self.whole,
-            stride: rows,
+            stride: self.rows,
             iterations: iterations as usize,
         };
         // Each chunk reads the lines around it as they were before any chunk
         // wrote its own.
         let [w_halos, d_halos, b_halos] =
             [&self.w, &self.d, &self.baseline].map(|field| sweep.halos(field));
+        let tau_d = tau * coupling;
+        let fields = Fields {
+            rows: self.rows,
+            w: &mut self.w,
+            d: &mut self.d,
+            baseline: &mut self.baseline,
+            carry: &mut self.carry,
+            inside: &self.inside,
+        };
+        fields.chunks(output, |chunk| {
+            let (a, c) = (chunk.first, (chunk.first - 1) / CHUNK);
+            let mut buffers = Vec::new();
+            sweep.run(chunk.w, &w_halos[c], tau, a, &mut buffers);
+            sweep.run(chunk.d, &d_halos[c], tau_d, a, &mut buffers);
+            sweep.run(chunk.baseline, &b_halos[c], tau_d, a, &mut buffers);
+            chunk.columns(&finish)
+        })
+    }
+
+    /// The per-pixel fields the column passes work on.
+    fn fields(&mut self) -> Fields<'_> {
+        Fields {
+            rows: self.rows,
+            w: &mut self.w,
+            d: &mut self.d,
+            baseline: &mut self.baseline,
+            carry: &mut self.carry,
+            inside: &self.inside,
+        }
+    }
+}
+
+/// The wall's per-pixel fields, borrowed apart from the rest of the wall.
+struct Fields<'a> {
+    rows: usize,
+    w: &'a mut [f32],
+    d: &'a mut [f32],
+    baseline: &'a mut [f32],
+    carry: &'a mut [f32],
+    inside: &'a [f32],
+}
+
+/// [`CHUNK`] columns (fewer at the end) of every per-pixel field, from
+/// padded column `first`, with the same columns of an output grid.
+struct Chunk<'a> {
+    first: usize,
+    rows: usize,
+    w: &'a mut [f32],
+    d: &'a mut [f32],
+    baseline: &'a mut [f32],
+    carry: &'a mut [f32],
+    inside: &'a [f32],
+    output: &'a mut [f32],
+}
+
+impl Fields<'_> {
+    /// Runs `f` on the chunks of columns inside the padding, in parallel;
+    /// returns their results in column order.
+    fn chunks<R, F>(self, output: Option<&mut [f32]>, f: F) -> Vec<R>
+    where
+        R: Send,
+        F: Fn(Chunk) -> Vec<R> + Sync,
+    {
+        let rows = self.rows;
+        let cols = self.w.len() / rows;
         let body = rows..(cols - 1) * rows;
         let span = CHUNK * rows;
         let results: Vec<Vec<R>> = self.w[body.clone()]
@@ -260,34 +301,47 @@ impl Wall {
             .zip(output_columns(output, cols - 2, rows - 2, CHUNK))
             .enumerate()
             .map(|(c, (((((w, d), baseline), carry), inside), output))| {
-                let a = 1 + c * CHUNK;
-                let lines = a..a + w.len() / rows;
-                let mut buffers = Vec::new();
-                sweep.run(w, &w_halos[c], tau, a, &mut buffers);
-                sweep.run(d, &d_halos[c], tau_d, a, &mut buffers);
-                sweep.run(baseline, &b_halos[c], tau_d, a, &mut buffers);
-                w.chunks_mut(rows)
-                    .zip(d.chunks_mut(rows))
-                    .zip(baseline.chunks_mut(rows))
-                    .zip(carry.chunks_mut(rows))
-                    .zip(inside.chunks(rows))
-                    .zip(output_columns(Some(output), lines.len(), rows - 2, 1))
-                    .zip(lines)
-                    .map(|((((((w, d), baseline), carry), inside), output), x)| {
-                        finish(Column {
-                            x,
-                            inside,
-                            w,
-                            d,
-                            baseline,
-                            carry,
-                            output,
-                        })
-                    })
-                    .collect()
+                f(Chunk {
+                    first: 1 + c * CHUNK,
+                    rows,
+                    w,
+                    d,
+                    baseline,
+                    carry,
+                    inside,
+                    output,
+                })
             })
             .collect();
         results.into_iter().flatten().collect()
+    }
+}
+
+impl Chunk<'_> {
+    /// `f` on each of the chunk's columns, in order.
+    fn columns<R>(self, f: &impl Fn(Column) -> R) -> Vec<R> {
+        let rows = self.rows;
+        let n = self.w.len() / rows;
+        self.w
+            .chunks_mut(rows)
+            .zip(self.d.chunks_mut(rows))
+            .zip(self.baseline.chunks_mut(rows))
+            .zip(self.carry.chunks_mut(rows))
+            .zip(self.inside.chunks(rows))
+            .zip(output_columns(Some(self.output), n, rows - 2, 1))
+            .zip(self.first..)
+            .map(|((((((w, d), baseline), carry), inside), output), x)| {
+                f(Column {
+                    x,
+                    inside,
+                    w,
+                    d,
+                    baseline,
+                    carry,
+                    output,
+                })
+            })
+            .collect()
     }
 }
 
