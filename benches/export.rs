@@ -68,6 +68,7 @@ fn stack() -> Stack {
     let layers = (0..12)
         .map(|i| Layer {
             name: format!("rain {:02}", i + 1),
+            kind: None,
             blend: BlendMode::Multiply,
             opacity: 0.8,
             visible: true,

@@ -103,6 +103,22 @@ pub enum Error {
     /// The caller cancelled the run.
     #[error("cancelled")]
     Cancelled,
+    /// Two outputs of one run would be the same file.
+    #[error("{path}: both {first} and {second} would write this file; give each its own path")]
+    OutputClash {
+        /// The file involved.
+        path: PathBuf,
+        /// What writes it first (e.g. `-o`).
+        first: String,
+        /// What writes it again (e.g. `--report`).
+        second: String,
+    },
+    /// An output's folder does not exist (checked before any work).
+    #[error("{path}: the output folder does not exist; create it or choose another output path")]
+    OutputFolderMissing {
+        /// The folder.
+        path: PathBuf,
+    },
 }
 
 /// Shorthand for results with grime's [`Error`].

@@ -5,7 +5,8 @@
 //! corners of a rectangle on the wall (top-left, top-right, bottom-right,
 //! bottom-left). A homography maps a `W` x `H` rectangle onto it. grime
 //! resamples the photo and the region into that rectangle ("rectifies"),
-//! runs [`pipeline::run`] there, and warps every layer back onto the photo.
+//! runs the effects there ([`crate::pipeline::run`] does, for a scene with a
+//! quad), and warps every layer back onto the photo.
 //! Pixels outside the quad (or outside the region) get zero coverage, so
 //! they are left byte-identical by compositing.
 //!
@@ -13,22 +14,50 @@
 //! `[x, x+1) x [y, y+1)` and its centre is `(x + 0.5, y + 0.5)`, so a quad
 //! on the image's corners `(0,0) (w,0) (w,h) (0,h)` is the identity.
 
-use std::sync::Arc;
-
 use image::{DynamicImage, GrayImage, Luma, Rgb, RgbImage, Rgba, RgbaImage};
 use imageproc::geometric_transformations::Projection;
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::photo::Photo;
-use crate::pipeline::{self, Outcome, Scene, Size};
-use crate::preset::Preset;
-use crate::progress::Progress;
 use crate::stack::{Layer, LayerPixels};
 
 /// Four corners in photo pixels: top-left, top-right, bottom-right,
 /// bottom-left of a rectangle on the wall.
 pub type Quad = [[f32; 2]; 4];
+
+/// Parses `x1,y1,x2,y2,x3,y3,x4,y4` (photo pixels; top-left, top-right,
+/// bottom-right, bottom-left) and checks it with [`validate`].
+///
+/// ```
+/// let q = grime::perspective::parse_quad("0,0, 100,10, 100,90, 0,100").unwrap();
+/// assert_eq!(q[2], [100.0, 90.0]);
+/// assert!(grime::perspective::parse_quad("0,0,1,1").is_err());
+/// ```
+///
+/// # Errors
+/// [`Error::OutOfRange`] naming `quad` for anything but eight numbers
+/// making a valid quad.
+pub fn parse_quad(text: &str) -> Result<Quad> {
+    let bad = || {
+        Error::OutOfRange {
+        field: "quad".into(),
+        value: format!("{text:?}"),
+        range: "eight numbers x1,y1,...,x4,y4: the corners top-left, top-right, bottom-right, bottom-left in photo pixels".into(),
+    }
+    };
+    let v: Vec<f32> = text
+        .split(',')
+        .map(|t| t.trim().parse::<f32>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| bad())?;
+    let [x1, y1, x2, y2, x3, y3, x4, y4] = v[..] else {
+        return Err(bad());
+    };
+    let quad = [[x1, y1], [x2, y2], [x3, y3], [x4, y4]];
+    validate(&quad)?;
+    Ok(quad)
+}
 
 /// Checks that a quad is finite, convex, not degenerate and ordered
 /// clockwise on screen (top-left, top-right, bottom-right, bottom-left).
@@ -236,6 +265,7 @@ impl Rectifier {
         };
         Layer {
             name: layer.name.clone(),
+            kind: layer.kind,
             blend: layer.blend,
             opacity: layer.opacity,
             visible: layer.visible,
@@ -301,70 +331,6 @@ fn sample_rgba(img: &RgbaImage, x: f32, y: f32) -> Option<Rgba<u8>> {
     Some(Rgba(out))
 }
 
-/// Runs the pipeline in the wall plane of `quad` (or plainly without one)
-/// and returns layers at the photo's size.
-///
-/// The returned [`Outcome`]'s `grid` and `rain` describe the rectified wall,
-/// not the photo; its stack and report describe the photo. Source lines in
-/// `preset` are photo pixels and are mapped into the wall plane.
-///
-/// # Errors
-/// As [`pipeline::run`], plus [`validate`]'s errors for a bad quad.
-pub fn pipeline_with_quad(
-    scene: &Scene,
-    quad: Option<&Quad>,
-    preset: &Preset,
-    progress: &Progress,
-) -> Result<Outcome> {
-    let Some(quad) = quad else {
-        return pipeline::run(scene, preset, progress);
-    };
-    let (w, h) = (scene.photo.width(), scene.photo.height());
-    let rect = Rectifier::new(quad, (w as u64 * h as u64).saturating_mul(2))?;
-    let region = scene.region.as_deref();
-    let rect_scene = Scene::new(
-        rect.rectify_photo(&scene.photo),
-        Some(rect.rectify_mask(region, w, h)),
-    )?;
-    let mut rect_preset = preset.clone();
-    for line in &mut rect_preset.rain.source_lines {
-        for p in line.iter_mut() {
-            let (u, v) = rect.photo_to_rect_unbounded(p[0], p[1]);
-            *p = [u, v];
-        }
-    }
-    progress.update("rectify", 0.02);
-    let out = pipeline::run(&rect_scene, &rect_preset, &progress.span(0.02, 0.9))?;
-    let mut layers = Vec::with_capacity(out.stack.layers.len());
-    for (i, layer) in out.stack.layers.iter().enumerate() {
-        progress.check()?;
-        progress.update(
-            "warp back",
-            0.9 + 0.1 * i as f32 / out.stack.layers.len().max(1) as f32,
-        );
-        layers.push(rect.unrectify_layer(layer, w, h, region));
-    }
-    let mut report = out.report;
-    report.image = Size {
-        width: w,
-        height: h,
-    };
-    for (r, l) in report.layers.iter_mut().zip(&layers) {
-        r.coverage = l.coverage();
-    }
-    progress.update("done", 1.0);
-    Ok(Outcome {
-        stack: crate::stack::Stack {
-            base: Arc::clone(&scene.photo),
-            layers,
-            region: scene.region.clone(),
-        },
-        report,
-        rain: out.rain,
-        grid: out.grid,
-    })
-}
-
 /// A photo-sized mask of the quad's inside (255) for display and tests.
 pub fn quad_mask(quad: &Quad, w: u32, h: u32) -> Result<GrayImage> {
     let rect = Rectifier::new(quad, 1 << 20)?;
@@ -383,6 +349,9 @@ pub fn quad_mask(quad: &Quad, w: u32, h: u32) -> Result<GrayImage> {
 mod tests {
     use super::*;
     use crate::demo;
+    use crate::pipeline::{self, Scene};
+    use crate::preset::Preset;
+    use crate::progress::Progress;
 
     fn small_preset(lines: Vec<Vec<[f32; 2]>>) -> Preset {
         let mut p = Preset::default();
@@ -429,7 +398,12 @@ mod tests {
         let preset = small_preset(d.source_lines);
         let plain = pipeline::run(&scene, &preset, &Progress::none()).unwrap();
         let quad = [[0.0, 0.0], [160.0, 0.0], [160.0, 120.0], [0.0, 120.0]];
-        let warped = pipeline_with_quad(&scene, Some(&quad), &preset, &Progress::none()).unwrap();
+        let warped = pipeline::run(
+            &scene.clone().with_quad(Some(quad)).unwrap(),
+            &preset,
+            &Progress::none(),
+        )
+        .unwrap();
         assert_eq!(plain.stack.layers.len(), warped.stack.layers.len());
         for (la, lb) in plain.stack.layers.iter().zip(&warped.stack.layers) {
             let (a, b) = (la.to_rgba(), lb.to_rgba());
@@ -453,7 +427,12 @@ mod tests {
         let quad = [[40.0, 20.0], [120.0, 30.0], [118.0, 100.0], [42.0, 110.0]];
         let mut preset = small_preset(vec![vec![[40.0, 40.0], [120.0, 45.0]]]);
         preset.stain.strength = 3.0;
-        let out = pipeline_with_quad(&scene, Some(&quad), &preset, &Progress::none()).unwrap();
+        let out = pipeline::run(
+            &scene.clone().with_quad(Some(quad)).unwrap(),
+            &preset,
+            &Progress::none(),
+        )
+        .unwrap();
         let composite = out.stack.composite().to_rgb8();
         let base = scene.photo.image().to_rgb8();
         let inside = quad_mask(&quad, 160, 120).unwrap();
@@ -488,7 +467,12 @@ mod tests {
         preset.rain.top_edge = false;
         preset.rain.layers = 1;
         preset.stain.strength = 3.0;
-        let out = pipeline_with_quad(&scene, Some(&quad), &preset, &Progress::none()).unwrap();
+        let out = pipeline::run(
+            &scene.clone().with_quad(Some(quad)).unwrap(),
+            &preset,
+            &Progress::none(),
+        )
+        .unwrap();
         let LayerPixels::Tint { alpha, .. } = &out.stack.layers[0].pixels else {
             panic!("tint")
         };

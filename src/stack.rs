@@ -16,6 +16,7 @@ use image::{DynamicImage, GrayImage, ImageBuffer, Rgba, RgbaImage};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::effects::Effect;
 use crate::photo::Photo;
 
 /// How a layer combines with what is below it.
@@ -58,6 +59,9 @@ pub enum LayerPixels {
 pub struct Layer {
     /// Name shown in editors ("rain 01", "moss", ...).
     pub name: String,
+    /// The effect that made it; `None` for layers no effect made (the PSD's
+    /// hidden region layer, layers built by hand).
+    pub kind: Option<Effect>,
     /// Blend mode.
     pub blend: BlendMode,
     /// Opacity, 0..1.
@@ -277,6 +281,7 @@ mod tests {
     fn tint(alpha: u8, blend: BlendMode, color: [u8; 3], opacity: f32) -> Layer {
         Layer {
             name: "t".into(),
+            kind: None,
             blend,
             opacity,
             visible: true,

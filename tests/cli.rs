@@ -371,7 +371,7 @@ fn report_says_what_happened() {
     let r: serde_json::Value = serde_json::from_slice(&std::fs::read(report).unwrap()).unwrap();
     assert_eq!(r["image"]["width"], 960);
     assert_eq!(r["seed"], 42);
-    assert!(r["droplets_per_layer"].as_u64().unwrap() > 100);
+    assert!(r["rain"]["droplets_per_layer"].as_u64().unwrap() > 100);
     let rain: Vec<_> = r["layers"]
         .as_array()
         .unwrap()

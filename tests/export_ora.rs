@@ -19,6 +19,7 @@ fn stack(photo: DynamicImage) -> Stack {
         layers: vec![
             Layer {
                 name: "rain 01".into(),
+                kind: None,
                 blend: BlendMode::Multiply,
                 opacity: 0.8,
                 visible: true,
@@ -29,6 +30,7 @@ fn stack(photo: DynamicImage) -> Stack {
             },
             Layer {
                 name: "moss & <co>".into(),
+                kind: None,
                 blend: BlendMode::Normal,
                 opacity: 0.25,
                 visible: false,

@@ -17,6 +17,7 @@ fn layers() -> Vec<Layer> {
     vec![
         Layer {
             name: "rain 01".into(),
+            kind: None,
             blend: BlendMode::Multiply,
             opacity: 0.8,
             visible: true,
@@ -29,6 +30,7 @@ fn layers() -> Vec<Layer> {
         },
         Layer {
             name: "moss".into(),
+            kind: None,
             blend: BlendMode::Normal,
             opacity: 0.55,
             visible: true,
@@ -43,6 +45,7 @@ fn layers() -> Vec<Layer> {
         },
         Layer {
             name: "dust film é".into(),
+            kind: None,
             blend: BlendMode::Normal,
             opacity: 1.0,
             visible: false,

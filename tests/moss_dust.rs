@@ -60,7 +60,7 @@ fn layers_stack_as_rain_moss_film_granules() {
     q.dust.enabled = false;
     let out = run(&scene, &q);
     assert_eq!(out.stack.layers.len(), 3);
-    assert!(out.report.moss.is_none() && out.report.dust.is_none());
+    assert!(out.report.moss().is_none() && out.report.dust().is_none());
 }
 
 #[test]
@@ -81,7 +81,7 @@ fn film_holds_exactly_eq_1_particles_after_t_days() {
     for t in [1u32, 2, 37, 400] {
         p.dust.days = t;
         let want = (area * (alpha_f + beta_f) + area * alpha_f * (t - 1) as f64).round() as u64;
-        let report = run(&scene, &p).report.dust.unwrap();
+        let report = run(&scene, &p).report.dust().cloned().unwrap();
         assert_eq!(report.film_particles, want, "T = {t}");
         assert!((report.area_in2 - area).abs() < 1e-9);
         // The film itself holds them, one count per particle.
@@ -241,7 +241,7 @@ fn moss_density_correlates_with_wetness() {
             }
         }
         let r = pearson(&xs, &ys);
-        let report = out.report.moss.unwrap();
+        let report = out.report.moss().cloned().unwrap();
         eprintln!(
             "seed {seed}: {} colonies, coverage {:.4}, r = {r:.3}",
             report.colonies, report.coverage
@@ -269,7 +269,7 @@ fn moss_sits_high_on_the_facade_and_grows_with_the_years() {
             band(0, 80) > band(160, 240),
             "{years} years: more moss on the top third"
         );
-        let coverage = out.report.moss.unwrap().coverage;
+        let coverage = out.report.moss().unwrap().coverage;
         assert!(
             coverage > last,
             "{years} years: coverage {coverage} <= {last}"
@@ -372,8 +372,8 @@ fn same_seed_gives_byte_identical_layers_at_1_and_2_threads() {
             assert_eq!(ca, cb);
         }
     }
-    assert_eq!(one.report.moss, two.report.moss);
-    assert_eq!(one.report.dust, two.report.dust);
+    assert_eq!(one.report.moss(), two.report.moss());
+    assert_eq!(one.report.dust(), two.report.dust());
     assert!(one.stack.composite().as_bytes() == two.stack.composite().as_bytes());
     // And another seed gives other moss and dust.
     p.seed += 1;

@@ -17,6 +17,10 @@ use super::common::{PresetFlags, progress_bar};
 /// others go on; the exit code is then 1. Outputs are written to a temporary
 /// file and renamed, so an interrupted batch leaves no half-written image and
 /// --skip-existing resumes it.
+///
+/// A photo's wall plane (as `grime run --quad`) can sit beside it in a
+/// sidecar file named after it plus `.quad` (`door.jpg.quad`), holding
+/// `x1,y1,...,x4,y4` in photo pixels.
 #[derive(Debug, Args)]
 pub struct BatchArgs {
     /// Folder of photos (PNG, JPEG, TIFF, WebP; extensions in any case).

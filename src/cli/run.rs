@@ -1,14 +1,13 @@
 //! `grime run`: age one photo.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use clap::Args;
-use grime::io::{self, Format};
-use grime::pipeline::{self, Scene};
+use grime::age::{self, Inputs, Outputs, Source};
+use grime::perspective;
 use grime::progress::Progress;
-use grime::{demo, export};
 
 use super::common::{PresetFlags, progress_bar};
 
@@ -22,7 +21,8 @@ use super::common::{PresetFlags, progress_bar};
   grime run --demo -o aged.png
   grime run facade.jpg -o aged.png --mask wall.png --layers 12 --seed 7
   grime run facade.jpg -o aged.png --preset heavy-rain --set rain.k_a=0.7
-  grime run facade.jpg -o aged.png --layers-dir layers/ --report report.json")]
+  grime run facade.jpg -o aged.png --layers-dir layers/ --report report.json
+  grime run street.jpg -o aged.psd --quad 120,80,900,140,880,700,140,690")]
 pub struct RunArgs {
     /// The photo to age (PNG, JPEG, TIFF or WebP; 8 or 16 bit).
     #[arg(required_unless_present = "demo")]
@@ -38,6 +38,12 @@ pub struct RunArgs {
     /// Pixels outside it are left byte-identical.
     #[arg(long, value_name = "FILE")]
     mask: Option<PathBuf>,
+    /// The wall plane: four corners `x1,y1,...,x4,y4` in photo pixels
+    /// (top-left, top-right, bottom-right, bottom-left) of a rectangle on the
+    /// wall. The effects then run in that plane, so streaks follow the wall's
+    /// vertical and shrink with distance.
+    #[arg(long, value_name = "X1,Y1,...,X4,Y4", allow_hyphen_values = true)]
+    quad: Option<String>,
     /// Normal map of the wall, the photo's size (tangent space, RGB =
     /// (n + 1) / 2, green = up): dust then takes its view and light angles
     /// per pixel, and surfaces facing down collect less of it.
@@ -57,37 +63,28 @@ pub struct RunArgs {
 }
 
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
-    let mut preset = args.preset.resolve()?;
-    Format::from_path(&args.output)?;
-    let (photo, mut region) = match (&args.demo, &args.input) {
-        (Some(name), _) => {
-            let d = demo::load(name)?;
-            if preset.rain.source_lines.is_empty() {
-                preset.rain.source_lines = d.source_lines;
-            }
-            (d.photo, d.region)
-        }
-        (None, Some(input)) => {
-            refuse_overwrite(input, &args.output)?;
-            (io::load_photo(input)?, None)
-        }
+    let preset = args.preset.resolve()?;
+    let source = match (&args.demo, &args.input) {
+        (Some(name), _) => Source::Demo(name.clone()),
+        (None, Some(input)) => Source::File(input.clone()),
         (None, None) => bail!("give an input photo or --demo"),
     };
-    if let Some(mask) = &args.mask {
-        if let Some(input) = &args.input {
-            refuse_overwrite(mask, &args.output)?;
-            refuse_overwrite(input, &args.output)?;
-        }
-        region = Some(io::load_mask(mask, photo.width(), photo.height())?);
-    }
-    let mut scene = Scene::new(photo, region)?;
-    if let Some(path) = &args.normal_map {
-        refuse_overwrite(path, &args.output)?;
-        let normals = io::load_photo(path)?.into_image().to_rgb8();
-        scene = scene
-            .with_normals(normals)
-            .with_context(|| path.display().to_string())?;
-    }
+    let inputs = Inputs {
+        source,
+        mask: args.mask,
+        normal_map: args.normal_map,
+        quad: args
+            .quad
+            .as_deref()
+            .map(perspective::parse_quad)
+            .transpose()?,
+    };
+    let outputs = Outputs {
+        images: vec![args.output],
+        layers_dir: args.layers_dir,
+        report: args.report,
+        create_dirs: false,
+    };
 
     let bar = progress_bar(
         args.quiet,
@@ -99,33 +96,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         bar.set_message(stage.to_string());
         bar.set_position((f * 1000.0) as u64);
     };
-    let outcome = pipeline::run(
-        &scene,
+    age::age(
+        &inputs,
         &preset,
+        &outputs,
         &Progress::new(Some(&update), Some(&cancel)),
     )?;
     bar.finish_and_clear();
-
-    export::save(&outcome.stack, &args.output)?;
-    if let Some(dir) = &args.layers_dir {
-        export::layers_dir::write(&outcome.stack, dir)?;
-    }
-    if let Some(path) = &args.report {
-        let text = serde_json::to_string_pretty(&outcome.report)?;
-        io::write_atomic(path, |out| {
-            std::io::Write::write_all(out, text.as_bytes()).map_err(|e| grime::Error::io(path, e))
-        })
-        .with_context(|| "cannot write the report")?;
-    }
-    Ok(())
-}
-
-fn refuse_overwrite(input: &Path, output: &Path) -> anyhow::Result<()> {
-    if io::same_file(input, output) {
-        return Err(grime::Error::WouldOverwriteInput {
-            path: output.to_path_buf(),
-        }
-        .into());
-    }
     Ok(())
 }

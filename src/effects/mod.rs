@@ -1,7 +1,304 @@
 //! The weathering effects. Each is pure: buffers, parameters and a seed in,
 //! maps or layers out; no file I/O, no clock, no threads beyond rayon.
+//!
+//! # The effect contract
+//!
+//! Every effect has the same shape, [`Effect::run`]: the shared read-only
+//! inputs ([`Context`]: grid, luminance, region, normals), what earlier
+//! effects produced ([`Products`]), the preset (its params and seed) in;
+//! layers and stats ([`Produced`]) out. The pipeline runs
+//! [`Effect::ALL`] in order, each over a share of the progress bar
+//! ([`Effect::weight`]), and knows from [`Effect::params`] and
+//! [`Effect::inputs`] which preset fields make which effect's output stale,
+//! so a preview cache can keep what is still valid ([`stale`]).
+//!
+//! [choice: a closed enum dispatched by `match`, as tiny-skia's shaders,
+//! rather than trait objects. The set of effects is known when grime is
+//! built; `match` makes the compiler list every place a new effect must
+//! answer (name, params, run), the effects stay plain functions on plain
+//! data, and nothing is boxed or registered at run time.]
+//!
+//! Adding an effect touches three files plus its tests: its own module (the
+//! simulation and a `stage` function of the shape of [`Effect::run`]), this
+//! file (a variant and its arms), and `preset/` (its params struct and
+//! PARAMS rows). README "How to add an effect" walks through it.
 
 pub mod dust;
 pub mod moss;
 pub mod rain;
 pub mod region;
+mod stages;
+
+use std::collections::BTreeSet;
+use std::sync::Arc;
+
+use image::{GrayImage, RgbImage};
+use serde::Serialize;
+
+use crate::error::Result;
+use crate::grid::Grid;
+use crate::preset::Preset;
+use crate::progress::Progress;
+use crate::stack::Layer;
+
+pub use stages::RainStats;
+
+/// One weathering effect. The variants are in pipeline order: an effect may
+/// read what the ones before it produced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Effect {
+    /// Rain streaks (Chang et al.): one layer per rainfall.
+    Rain,
+    /// Moss (Chang eq. 18), grown from the rain's wetness and dirt.
+    Moss,
+    /// Dust film and granules (Santos & Baranoski).
+    Dust,
+}
+
+impl Effect {
+    /// Every effect, in the order the pipeline runs them.
+    pub const ALL: [Effect; 3] = [Effect::Rain, Effect::Moss, Effect::Dust];
+
+    /// Its name in reports and timings.
+    pub fn name(self) -> &'static str {
+        match self {
+            Effect::Rain => "rain",
+            Effect::Moss => "moss",
+            Effect::Dust => "dust",
+        }
+    }
+
+    /// Whether the preset asks for it. The rain always runs: with
+    /// `rain.layers = 0` it makes no layer but still gives moss its dry wall.
+    pub fn enabled(self, preset: &Preset) -> bool {
+        match self {
+            Effect::Rain => true,
+            Effect::Moss => preset.moss.enabled,
+            Effect::Dust => preset.dust.enabled,
+        }
+    }
+
+    /// Its share of a run's progress bar (about its share of the time on
+    /// the default preset; the enabled effects' weights are normalised).
+    pub fn weight(self) -> f32 {
+        match self {
+            Effect::Rain => 0.79,
+            Effect::Moss => 0.105,
+            Effect::Dust => 0.105,
+        }
+    }
+
+    /// The effects whose products it reads.
+    pub fn inputs(self) -> &'static [Effect] {
+        match self {
+            Effect::Rain | Effect::Dust => &[],
+            Effect::Moss => &[Effect::Rain],
+        }
+    }
+
+    /// Preset fields (dotted paths or their prefixes) its output depends
+    /// on. A changed field outside every effect's list makes all stale.
+    pub fn params(self) -> &'static [&'static str] {
+        match self {
+            Effect::Rain => &["seed", "sim", "rain", "stain"],
+            Effect::Moss => &["seed", "sim", "moss", "stain.percentile"],
+            Effect::Dust => &["seed", "dust"],
+        }
+    }
+
+    /// Fields of [`Effect::params`] that finished layers follow without a
+    /// new simulation ([`Effect::restyle`]). `rain.layers` is one only when
+    /// it goes down and no enabled effect reads the rain's final state: each
+    /// rainfall depends only on those before it, so the first N of M are the
+    /// N-rainfall run, but the wall after N is not the wall after M.
+    fn restyles(self, path: &str, old: &Preset, new: &Preset) -> bool {
+        let read_by_enabled = |e: Effect| {
+            Effect::ALL
+                .iter()
+                .any(|d| d.inputs().contains(&e) && d.enabled(new))
+        };
+        match self {
+            Effect::Rain => match path {
+                "stain.color" | "stain.opacity" => true,
+                "rain.layers" => new.rain.layers <= old.rain.layers && !read_by_enabled(self),
+                _ => false,
+            },
+            Effect::Moss | Effect::Dust => false,
+        }
+    }
+
+    /// Brings a finished layer of this effect in line with `preset` where
+    /// [`Effect::restyles`] allows it; `index` counts this effect's layers
+    /// from 0. On the preset a layer was made with, this changes nothing.
+    pub fn restyle(self, layer: &mut Layer, index: usize, preset: &Preset) {
+        match self {
+            Effect::Rain => stages::restyle_rain(layer, index, preset),
+            Effect::Moss | Effect::Dust => {}
+        }
+    }
+
+    /// Runs the effect.
+    ///
+    /// # Errors
+    /// The effect's own errors, and [`crate::Error::Cancelled`].
+    pub fn run(
+        self,
+        ctx: &Context,
+        products: &mut Products,
+        preset: &Preset,
+        progress: &Progress,
+    ) -> Result<Produced> {
+        match self {
+            Effect::Rain => stages::rain(ctx, products, preset, progress),
+            Effect::Moss => stages::moss(ctx, products, preset, progress),
+            Effect::Dust => stages::dust(ctx, preset, progress),
+        }
+    }
+}
+
+/// The read-only inputs every effect shares.
+pub struct Context<'a> {
+    /// The simulation grid.
+    pub grid: &'a Grid,
+    /// Luminance on the grid, row-major (`y * width + x`), 0..255.
+    pub luma: &'a [f32],
+    /// The region on the grid, row-major: true = wall.
+    pub region: &'a [bool],
+    /// The region at the photo's size (255 = wall), `None` = whole photo.
+    pub mask: Option<&'a GrayImage>,
+    /// The region as a pixel sampler at the photo's size.
+    pub wall: &'a region::Region<'a>,
+    /// Tangent-space normal map at the photo's size, if given.
+    pub normals: Option<&'a RgbImage>,
+}
+
+impl Context<'_> {
+    /// Photo width and height.
+    pub fn size(&self) -> (u32, u32) {
+        (self.wall.width(), self.wall.height())
+    }
+}
+
+/// What effects produced for later effects to read (grid-level maps).
+#[derive(Debug, Clone, Default)]
+pub struct Products {
+    /// The rain's wall state after the last rainfall.
+    pub rain: Option<Arc<rain::RainOutput>>,
+}
+
+/// What one effect made.
+#[derive(Debug, Clone)]
+pub struct Produced {
+    /// Its layers, bottom to top.
+    pub layers: Vec<Layer>,
+    /// Per-layer numbers (the rain's per-rainfall stats), by layer.
+    pub layer_stats: Vec<Option<rain::LayerStats>>,
+    /// Its numbers for the report.
+    pub stats: Stats,
+}
+
+/// An effect's numbers in the report (`--report`), under its name.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Stats {
+    /// Droplets per rainfall and the stains' D_max.
+    Rain(RainStats),
+    /// Colonies, dots, coverage.
+    Moss(moss::MossStats),
+    /// Particles per component, coverage.
+    Dust(dust::DustStats),
+}
+
+/// The effects whose output made with `old` is stale for `new`: those with
+/// a changed field among their [`Effect::params`] that they cannot restyle,
+/// and those that read a stale one's products. A changed field that no
+/// effect lists makes every effect stale.
+pub fn stale(old: &Preset, new: &Preset) -> BTreeSet<Effect> {
+    let (Ok(a), Ok(b)) = (toml::Value::try_from(old), toml::Value::try_from(new)) else {
+        return Effect::ALL.into_iter().collect();
+    };
+    let mut changed = Vec::new();
+    crate::preset::diff_paths(&a, &b, String::new(), &mut changed);
+    let mut out = BTreeSet::new();
+    for path in &changed {
+        let owners: Vec<Effect> = Effect::ALL
+            .into_iter()
+            .filter(|e| e.params().iter().any(|p| covers(p, path)))
+            .collect();
+        if owners.is_empty() {
+            return Effect::ALL.into_iter().collect();
+        }
+        out.extend(owners.into_iter().filter(|e| !e.restyles(path, old, new)));
+    }
+    for e in Effect::ALL {
+        if e.inputs().iter().any(|i| out.contains(i)) {
+            out.insert(e);
+        }
+    }
+    out
+}
+
+/// Whether params entry `prefix` covers the dotted `path`.
+fn covers(prefix: &str, path: &str) -> bool {
+    path == prefix
+        || path
+            .strip_prefix(prefix)
+            .is_some_and(|rest| rest.starts_with('.'))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stain_colour_restyles_and_dust_alone_stays_dust() {
+        let old = Preset::default();
+        let mut new = old.clone();
+        new.stain.color = [1, 2, 3];
+        new.stain.opacity = 0.3;
+        assert!(stale(&old, &new).is_empty());
+        new.dust.days += 1;
+        assert_eq!(stale(&old, &new), BTreeSet::from([Effect::Dust]));
+    }
+
+    #[test]
+    fn fewer_rainfalls_restyle_only_when_nothing_reads_the_final_wall() {
+        let mut old = Preset::default();
+        old.moss.enabled = false;
+        let mut new = old.clone();
+        new.rain.layers -= 1;
+        assert!(stale(&old, &new).is_empty());
+        new.rain.layers += 2;
+        assert_eq!(
+            stale(&old, &new),
+            BTreeSet::from([Effect::Rain, Effect::Moss])
+        );
+        // Moss grows from the wall after the last rainfall: a new rain run.
+        new.rain.layers -= 2;
+        new.moss.enabled = true;
+        assert!(stale(&old, &new).contains(&Effect::Rain));
+    }
+
+    #[test]
+    fn a_rain_change_reaches_moss_through_its_inputs_and_seed_reaches_all() {
+        let old = Preset::default();
+        let mut new = old.clone();
+        new.rain.k_a *= 0.5;
+        assert_eq!(
+            stale(&old, &new),
+            BTreeSet::from([Effect::Rain, Effect::Moss])
+        );
+        let mut new = old.clone();
+        new.seed += 1;
+        assert_eq!(stale(&old, &new).len(), Effect::ALL.len());
+    }
+
+    #[test]
+    fn prefixes_cover_whole_segments_only() {
+        assert!(covers("rain", "rain.k_a"));
+        assert!(covers("stain.percentile", "stain.percentile"));
+        assert!(!covers("rain", "rainbow"));
+        assert!(!covers("stain.percentile", "stain.opacity"));
+    }
+}

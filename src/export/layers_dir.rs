@@ -57,6 +57,16 @@ pub fn slug(name: &str) -> String {
         .collect()
 }
 
+/// Whether `name` is a file name the layers folder writes: `00-photo.png`,
+/// `NN-<layer>.png`, `region.png` or `manifest.json`.
+pub fn is_own_file(name: &str) -> bool {
+    let numbered = name.len() > 7
+        && name.as_bytes()[..2].iter().all(u8::is_ascii_digit)
+        && name.as_bytes()[2] == b'-'
+        && name.ends_with(".png");
+    numbered || name == "region.png" || name == "manifest.json"
+}
+
 /// Writes the photo, every layer and `manifest.json` into `dir` (created if
 /// missing). Every file is written atomically.
 ///

@@ -315,6 +315,7 @@ impl Document {
 fn region_layer(region: &GrayImage) -> Layer {
     Layer {
         name: REGION_LAYER.into(),
+        kind: None,
         blend: BlendMode::Normal,
         opacity: 1.0,
         visible: false,

@@ -1588,6 +1588,7 @@ impl GrimeApp {
                 photo: Arc::clone(&l.photo),
                 region: Some(Arc::new(l.doc.mask.clone())),
                 normals: None,
+                quad: None,
             },
             quad: l.doc.quad,
             preset: l.doc.run_preset(),

@@ -23,9 +23,9 @@ use std::time::Instant;
 use egui::ColorImage;
 use image::{DynamicImage, GrayImage};
 
+use crate::age;
 use crate::error::Result;
-use crate::export;
-use crate::perspective::{self, Quad};
+use crate::perspective::Quad;
 use crate::photo::Photo;
 use crate::pipeline::{Scene, Timing};
 use crate::preset::{DustParams, Preset};
@@ -161,6 +161,7 @@ impl Proxy {
                 photo: Arc::clone(&self.photo),
                 region: Some(Arc::new(self.mask.clone())),
                 normals: None,
+                quad: None,
             },
             quad: quad.map(|q| q.map(|p| self.to_proxy(p))),
             preset,
@@ -316,7 +317,8 @@ impl Previewer {
         } else {
             preset
         };
-        let out = perspective::pipeline_with_quad(&job.scene, job.quad.as_ref(), run, progress)?;
+        let scene = job.scene.clone().with_quad(job.quad)?;
+        let out = crate::pipeline::run(&scene, run, progress)?;
         let mut timings = out.report.timings;
         let mut stack = out.stack;
         let start = Instant::now();
@@ -522,29 +524,34 @@ pub struct Exported {
 /// # Errors
 /// As [`perspective::pipeline_with_quad`] and [`export::save`].
 pub fn export(job: ExportJob, progress: &Progress) -> Result<Exported> {
-    crate::io::Format::from_path(&job.path)?;
-    let out = perspective::pipeline_with_quad(
-        &job.scene,
-        job.quad.as_ref(),
-        &job.preset,
-        &progress.span(0.0, 0.9),
-    )?;
-    let mut stack = out.stack;
-    let original: Vec<_> = stack
-        .layers
-        .iter()
-        .map(|l| (l.opacity, l.visible))
-        .collect();
-    style_stack(&mut stack, &original, &job.preset);
-    apply_layer_settings(&job.layers, &mut stack);
-    progress.update("writing", 0.92);
-    export::save(&stack, &job.path)?;
-    progress.update("done", 1.0);
+    let inputs = age::Inputs {
+        source: age::Source::Loaded {
+            scene: job.scene,
+            from: Vec::new(),
+        },
+        mask: None,
+        normal_map: None,
+        quad: job.quad,
+    };
+    let outputs = age::Outputs {
+        images: vec![job.path.clone()],
+        ..age::Outputs::default()
+    };
+    let adjust = |stack: &mut Stack| {
+        let original: Vec<_> = stack
+            .layers
+            .iter()
+            .map(|l| (l.opacity, l.visible))
+            .collect();
+        style_stack(stack, &original, &job.preset);
+        apply_layer_settings(&job.layers, stack);
+    };
+    let out = age::age_adjusted(&inputs, &job.preset, &outputs, progress, &adjust)?;
     Ok(Exported {
         path: job.path,
-        width: stack.base.width(),
-        height: stack.base.height(),
-        layers: stack.layers.len(),
+        width: out.stack.base.width(),
+        height: out.stack.base.height(),
+        layers: out.stack.layers.len(),
     })
 }
 

@@ -6,8 +6,10 @@
 //! same table documents each field (`grime preset default`) and gives the GUI
 //! its slider ranges and tooltips, so the three cannot drift apart.
 
+mod diff;
 mod params;
 
+pub use diff::diff_paths;
 pub use params::{PARAMS, ParamSpec, param};
 
 use serde::{Deserialize, Serialize};

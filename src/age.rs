@@ -1,0 +1,357 @@
+//! The one way to age files, used by `grime run`, `grime batch` and the
+//! GUI's export: check the outputs against the inputs ([`guard`]), load the
+//! inputs, run [`pipeline::run`], write every output atomically.
+//!
+//! The guard runs before anything is loaded or simulated, so a bad output
+//! path costs nothing and never touches a file:
+//! - no output (image, report, or a file the layers folder would hold) is
+//!   any input (photo, mask, normal map);
+//! - no two outputs are the same file;
+//! - every output's folder exists, unless the caller creates folders.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::error::{Error, Result};
+use crate::export;
+use crate::io::{self, Format};
+use crate::perspective::Quad;
+use crate::pipeline::{self, Outcome, Scene};
+use crate::preset::Preset;
+use crate::progress::Progress;
+use crate::stack::Stack;
+
+/// Where the photo comes from.
+#[derive(Debug, Clone)]
+pub enum Source {
+    /// A photo file (PNG, JPEG, TIFF, WebP).
+    File(PathBuf),
+    /// An embedded sample ([`crate::demo::load`]); its region and ledges
+    /// come with it (a `mask` replaces the region; the preset's own source
+    /// lines replace the ledges).
+    Demo(String),
+    /// A scene already in memory (the GUI's document), and the files it was
+    /// loaded from, which no output may overwrite.
+    Loaded {
+        /// The photo, region, normals and quad.
+        scene: Scene,
+        /// The files behind it.
+        from: Vec<PathBuf>,
+    },
+}
+
+/// Everything one ageing reads.
+#[derive(Debug, Clone)]
+pub struct Inputs {
+    /// The photo.
+    pub source: Source,
+    /// Region mask file: greyscale, photo-sized, white = wall.
+    pub mask: Option<PathBuf>,
+    /// Tangent-space normal map file, photo-sized.
+    pub normal_map: Option<PathBuf>,
+    /// The wall plane, photo pixels.
+    pub quad: Option<Quad>,
+}
+
+impl Inputs {
+    /// Ageing the photo file at `path`, nothing else given.
+    pub fn file(path: impl Into<PathBuf>) -> Inputs {
+        Inputs {
+            source: Source::File(path.into()),
+            mask: None,
+            normal_map: None,
+            quad: None,
+        }
+    }
+
+    /// The input files (which no output may be).
+    pub fn paths(&self) -> Vec<&Path> {
+        let mut out: Vec<&Path> = match &self.source {
+            Source::File(p) => vec![p.as_path()],
+            Source::Demo(_) => Vec::new(),
+            Source::Loaded { from, .. } => from.iter().map(PathBuf::as_path).collect(),
+        };
+        out.extend(self.mask.as_deref());
+        out.extend(self.normal_map.as_deref());
+        out
+    }
+}
+
+/// Everything one ageing writes.
+#[derive(Debug, Clone, Default)]
+pub struct Outputs {
+    /// Flattened or layered images; each extension picks the format.
+    pub images: Vec<PathBuf>,
+    /// Folder for every layer as a PNG plus `manifest.json`.
+    pub layers_dir: Option<PathBuf>,
+    /// JSON report of what happened.
+    pub report: Option<PathBuf>,
+    /// Create missing output folders (batch) instead of refusing (run).
+    pub create_dirs: bool,
+}
+
+/// Checks `outputs` against `inputs` and each other, before any work.
+///
+/// # Errors
+/// [`Error::WouldOverwriteInput`] when an output is an input,
+/// [`Error::OutputClash`] when two outputs are one file,
+/// [`Error::OutputFolderMissing`] for a missing folder (unless
+/// `create_dirs`), [`Error::UnknownFormat`] for an image output whose
+/// extension names no format.
+pub fn guard(inputs: &Inputs, outputs: &Outputs) -> Result<()> {
+    let named = named_outputs(outputs)?;
+    for (i, (path, what)) in named.iter().enumerate() {
+        if inputs.paths().iter().any(|input| same_path(input, path)) {
+            return Err(Error::WouldOverwriteInput { path: path.clone() });
+        }
+        if let Some((_, first)) = named[..i].iter().find(|(p, _)| same_path(p, path)) {
+            return Err(Error::OutputClash {
+                path: path.clone(),
+                first: first.clone(),
+                second: what.clone(),
+            });
+        }
+    }
+    if let Some(dir) = &outputs.layers_dir {
+        let clash = |p: &Path| layer_file_in(dir, p);
+        if let Some(input) = inputs.paths().into_iter().find(|p| clash(p)) {
+            return Err(Error::WouldOverwriteInput {
+                path: input.to_path_buf(),
+            });
+        }
+        if let Some((path, what)) = named.iter().find(|(p, _)| clash(p)) {
+            return Err(Error::OutputClash {
+                path: path.clone(),
+                first: what.clone(),
+                second: "--layers-dir".into(),
+            });
+        }
+    }
+    if !outputs.create_dirs {
+        for (path, _) in &named {
+            let dir = folder_of(path);
+            if !dir.is_dir() {
+                return Err(Error::OutputFolderMissing { path: dir });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The image and report outputs with what writes them, formats checked.
+fn named_outputs(outputs: &Outputs) -> Result<Vec<(PathBuf, String)>> {
+    let mut named = Vec::new();
+    for p in &outputs.images {
+        Format::from_path(p)?;
+        named.push((p.clone(), "-o".to_string()));
+    }
+    if let Some(r) = &outputs.report {
+        named.push((r.clone(), "--report".to_string()));
+    }
+    Ok(named)
+}
+
+/// Whether `path` is in `dir` under a name the layers folder writes.
+fn layer_file_in(dir: &Path, path: &Path) -> bool {
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+    same_path(&folder_of(path), dir) && export::layers_dir::is_own_file(name)
+}
+
+/// The folder `path` is in (`.` for a bare name).
+fn folder_of(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// Whether two paths name the same file, existing or not: the folder part
+/// is resolved (links, `..`), the name compared as is.
+fn same_path(a: &Path, b: &Path) -> bool {
+    fn resolved(p: &Path) -> PathBuf {
+        if let Ok(real) = p.canonicalize() {
+            return real;
+        }
+        match (folder_of(p).canonicalize(), p.file_name()) {
+            (Ok(dir), Some(name)) => dir.join(name),
+            _ => p.to_path_buf(),
+        }
+    }
+    resolved(a) == resolved(b)
+}
+
+/// Loads the inputs into a scene, with the preset the demo adds its ledges to.
+///
+/// # Errors
+/// Decoding errors naming the file, and the scene's size checks.
+pub fn load(inputs: &Inputs, preset: &Preset) -> Result<(Scene, Preset)> {
+    let mut preset = preset.clone();
+    let (photo, region) = match &inputs.source {
+        Source::File(path) => (Arc::new(io::load_photo(path)?), None),
+        Source::Demo(name) => {
+            let d = crate::demo::load(name)?;
+            if preset.rain.source_lines.is_empty() {
+                preset.rain.source_lines = d.source_lines;
+            }
+            (Arc::new(d.photo), d.region.map(Arc::new))
+        }
+        Source::Loaded { scene, .. } => (Arc::clone(&scene.photo), scene.region.clone()),
+    };
+    let region = match &inputs.mask {
+        Some(m) => Some(Arc::new(io::load_mask(m, photo.width(), photo.height())?)),
+        None => region,
+    };
+    let mut scene = Scene::shared(photo, region)?;
+    if let Source::Loaded { scene: given, .. } = &inputs.source {
+        scene.normals = given.normals.clone();
+        scene.quad = given.quad;
+    }
+    if let Some(path) = &inputs.normal_map {
+        let normals = io::load_photo(path)?.into_image().to_rgb8();
+        scene = scene.with_normals(normals)?;
+    }
+    if inputs.quad.is_some() {
+        scene = scene.with_quad(inputs.quad)?;
+    }
+    Ok((scene, preset))
+}
+
+/// Ages `inputs` with `preset` and writes `outputs`.
+///
+/// # Errors
+/// [`guard`]'s errors (before any work), then loading, pipeline and
+/// writing errors, each naming its file.
+pub fn age(
+    inputs: &Inputs,
+    preset: &Preset,
+    outputs: &Outputs,
+    progress: &Progress,
+) -> Result<Outcome> {
+    age_adjusted(inputs, preset, outputs, progress, &|_| {})
+}
+
+/// [`age`], with `adjust` applied to the layer stack before it is written
+/// (the GUI's layer visibility and opacity).
+///
+/// # Errors
+/// As [`age`].
+pub fn age_adjusted(
+    inputs: &Inputs,
+    preset: &Preset,
+    outputs: &Outputs,
+    progress: &Progress,
+    adjust: &dyn Fn(&mut Stack),
+) -> Result<Outcome> {
+    guard(inputs, outputs)?;
+    let (scene, preset) = load(inputs, preset)?;
+    let mut outcome = pipeline::run(&scene, &preset, &progress.span(0.0, 0.95))?;
+    adjust(&mut outcome.stack);
+    progress.update("writing", 0.95);
+    write(&outcome, outputs)?;
+    progress.update("done", 1.0);
+    Ok(outcome)
+}
+
+/// Writes every output of `outcome`, each atomically.
+///
+/// # Errors
+/// Writing errors naming the file.
+pub fn write(outcome: &Outcome, outputs: &Outputs) -> Result<()> {
+    for out in &outputs.images {
+        if outputs.create_dirs {
+            let dir = folder_of(out);
+            std::fs::create_dir_all(&dir).map_err(|e| Error::io(dir, e))?;
+        }
+        export::save(&outcome.stack, out)?;
+    }
+    if let Some(dir) = &outputs.layers_dir {
+        export::layers_dir::write(&outcome.stack, dir)?;
+    }
+    if let Some(path) = &outputs.report {
+        let text = serde_json::to_string_pretty(&outcome.report).map_err(|e| Error::Encode {
+            path: path.clone(),
+            reason: e.to_string(),
+        })?;
+        io::write_atomic(path, |out| {
+            std::io::Write::write_all(out, text.as_bytes()).map_err(|e| Error::io(path, e))
+        })?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outputs(images: &[&Path]) -> Outputs {
+        Outputs {
+            images: images.iter().map(|p| p.to_path_buf()).collect(),
+            ..Outputs::default()
+        }
+    }
+
+    #[test]
+    fn refuses_an_output_that_is_an_input_in_another_spelling() {
+        let dir = tempfile::tempdir().unwrap();
+        let photo = dir.path().join("p.png");
+        std::fs::write(&photo, b"x").unwrap();
+        let other = dir.path().join("sub/../p.png");
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        let err = guard(&Inputs::file(&photo), &outputs(&[&other])).unwrap_err();
+        assert!(matches!(err, Error::WouldOverwriteInput { .. }), "{err}");
+    }
+
+    #[test]
+    fn refuses_a_mask_even_for_the_demo() {
+        let dir = tempfile::tempdir().unwrap();
+        let mask = dir.path().join("m.png");
+        std::fs::write(&mask, b"x").unwrap();
+        let inputs = Inputs {
+            source: Source::Demo("facade".into()),
+            mask: Some(mask.clone()),
+            normal_map: None,
+            quad: None,
+        };
+        assert!(guard(&inputs, &outputs(&[&mask])).is_err());
+    }
+
+    #[test]
+    fn refuses_report_on_image_and_on_input() {
+        let dir = tempfile::tempdir().unwrap();
+        let photo = dir.path().join("p.png");
+        std::fs::write(&photo, b"x").unwrap();
+        let out = dir.path().join("aged.png");
+        let mut o = outputs(&[&out]);
+        o.report = Some(out.clone());
+        let err = guard(&Inputs::file(&photo), &o).unwrap_err();
+        assert!(matches!(err, Error::OutputClash { .. }), "{err}");
+        o.report = Some(photo.clone());
+        let err = guard(&Inputs::file(&photo), &o).unwrap_err();
+        assert!(matches!(err, Error::WouldOverwriteInput { .. }), "{err}");
+    }
+
+    #[test]
+    fn refuses_a_layers_folder_holding_an_input_named_like_a_layer() {
+        let dir = tempfile::tempdir().unwrap();
+        let photo = dir.path().join("00-photo.png");
+        std::fs::write(&photo, b"x").unwrap();
+        let mut o = outputs(&[&dir.path().join("out.png")]);
+        o.layers_dir = Some(dir.path().to_path_buf());
+        assert!(guard(&Inputs::file(&photo), &o).is_err());
+        // An input with another name may sit there.
+        let other = dir.path().join("facade.png");
+        std::fs::write(&other, b"x").unwrap();
+        assert!(guard(&Inputs::file(&other), &o).is_ok());
+    }
+
+    #[test]
+    fn refuses_a_missing_folder_unless_asked_to_create_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("no/such/aged.png");
+        let mut o = outputs(&[&out]);
+        let err = guard(&Inputs::file(dir.path().join("p.png")), &o).unwrap_err();
+        assert!(matches!(err, Error::OutputFolderMissing { .. }), "{err}");
+        o.create_dirs = true;
+        assert!(guard(&Inputs::file(dir.path().join("p.png")), &o).is_ok());
+    }
+}

@@ -1,0 +1,274 @@
+//! The one door into the core: scene + preset in, layer stack and report
+//! out. `grime run`, `grime batch` (through [`crate::age`]) and the GUI's
+//! preview and export all call [`run`] or [`run_cached`].
+//!
+//! A run prepares the simulation grid once ([`Context`]), then runs every
+//! enabled [`Effect`] in order, each on its share of the progress bar. With
+//! a wall plane ([`Scene::quad`]) it runs in that plane and warps the layers
+//! back onto the photo. A [`Cache`] keeps each effect's output with the
+//! preset it was made with, so a later run re-simulates only the effects
+//! whose fields changed ([`crate::effects::stale`]).
+
+mod report;
+mod scene;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
+
+use crate::effects::rain::RainOutput;
+use crate::effects::region::Region;
+use crate::effects::{Context, Effect, Produced, Products};
+use crate::error::{Error, Result};
+use crate::grid::Grid;
+use crate::perspective::{Quad, Rectifier};
+use crate::preset::Preset;
+use crate::progress::Progress;
+use crate::stack::Stack;
+
+pub use report::{GridReport, LayerReport, Report, Size, Timing};
+pub use scene::Scene;
+
+use report::Clock;
+
+/// The pipeline's result.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// Photo plus effect layers.
+    pub stack: Stack,
+    /// What happened, in numbers.
+    pub report: Report,
+    /// The rain's grid-level result (wall water and dirt), for effects and
+    /// tools that build on it. With a wall plane, it is the plane's.
+    pub rain: Arc<RainOutput>,
+    /// The simulation grid (the wall plane's, with a quad).
+    pub grid: Grid,
+}
+
+/// Each effect's last output and the preset it was made with, for
+/// [`run_cached`]. Made for one scene: a run on another scene (other photo,
+/// region, normals or quad buffers) starts it afresh.
+#[derive(Debug, Default)]
+pub struct Cache {
+    scene: Option<Scene>,
+    made: BTreeMap<Effect, (Preset, Produced)>,
+    products: Products,
+}
+
+impl Cache {
+    /// The effects whose kept output is still valid for `preset` on `scene`
+    /// (before the effects that read re-run ones are counted out).
+    pub fn valid(&self, scene: &Scene, preset: &Preset) -> BTreeSet<Effect> {
+        if !self.scene.as_ref().is_some_and(|s| s.same_as(scene)) {
+            return BTreeSet::new();
+        }
+        self.made
+            .iter()
+            .filter(|(e, (old, _))| !crate::effects::stale(old, preset).contains(e))
+            .map(|(e, _)| *e)
+            .collect()
+    }
+}
+
+/// Runs every enabled effect on the scene.
+///
+/// # Errors
+/// [`Error::EmptyRegion`] for an empty mask, [`Error::Cancelled`] when the
+/// progress's cancel flag is set, a bad quad's or an invalid preset's error.
+pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcome> {
+    run_cached(scene, preset, progress, &mut Cache::default())
+}
+
+/// [`run`], re-using from `cache` each effect whose output is still valid,
+/// and leaving this run's outputs in it. The result is the same as [`run`]'s.
+///
+/// # Errors
+/// As [`run`].
+pub fn run_cached(
+    scene: &Scene,
+    preset: &Preset,
+    progress: &Progress,
+    cache: &mut Cache,
+) -> Result<Outcome> {
+    preset.validate()?;
+    let valid = cache.valid(scene, preset);
+    if !cache.scene.as_ref().is_some_and(|s| s.same_as(scene)) {
+        *cache = Cache {
+            scene: Some(scene.clone()),
+            ..Cache::default()
+        };
+    }
+    match &scene.quad {
+        None => run_effects(scene, preset, progress, cache, &valid, preset),
+        Some(quad) => in_plane(scene, quad, preset, progress, cache, &valid),
+    }
+}
+
+/// The effects on the scene's own pixels; their outputs go into `cache`
+/// under `made_with`, the preset as the caller gave it.
+fn run_effects(
+    scene: &Scene,
+    preset: &Preset,
+    progress: &Progress,
+    cache: &mut Cache,
+    valid: &BTreeSet<Effect>,
+    made_with: &Preset,
+) -> Result<Outcome> {
+    let mut clock = Clock::start();
+    let (w, h) = scene.size();
+    let mask = scene.region.as_deref();
+    let grid = Grid::new(w, h, mask, preset.sim.max_side)?;
+    let luma = grid.luma(&scene.photo);
+    let region = grid.region(mask);
+    let wall = Region::new(w, h, mask)?;
+    let ctx = Context {
+        grid: &grid,
+        luma: &luma,
+        region: &region,
+        mask,
+        wall: &wall,
+        normals: scene.normals.as_deref(),
+    };
+    clock.lap("grid");
+    progress.update("prepare", 0.05);
+
+    let enabled: Vec<Effect> = Effect::ALL
+        .into_iter()
+        .filter(|e| e.enabled(preset))
+        .collect();
+    let total: f32 = enabled.iter().map(|e| e.weight()).sum();
+    let mut at = 0.05;
+    let mut rerun = BTreeSet::new();
+    let mut stack = Stack {
+        base: Arc::clone(&scene.photo),
+        layers: Vec::new(),
+        region: scene.region.clone(),
+    };
+    let mut layer_reports = Vec::new();
+    let mut effects = BTreeMap::new();
+    for effect in enabled {
+        progress.check()?;
+        let end = at + 0.95 * effect.weight() / total;
+        let keep = valid.contains(&effect) && !effect.inputs().iter().any(|i| rerun.contains(i));
+        let produced = match (keep, cache.made.get(&effect)) {
+            (true, Some((_, kept))) => {
+                let kept = kept.clone();
+                clock.lap(&format!("{} (kept)", effect.name()));
+                kept
+            }
+            _ => {
+                rerun.insert(effect);
+                let made =
+                    effect.run(&ctx, &mut cache.products, preset, &progress.span(at, end))?;
+                cache.made.insert(effect, (made_with.clone(), made.clone()));
+                clock.lap(effect.name());
+                made
+            }
+        };
+        at = end;
+        for (i, (mut layer, stats)) in produced
+            .layers
+            .into_iter()
+            .zip(produced.layer_stats)
+            .enumerate()
+        {
+            effect.restyle(&mut layer, i, preset);
+            layer_reports.push(LayerReport::of(&layer, stats));
+            stack.layers.push(layer);
+        }
+        effects.insert(effect, produced.stats);
+    }
+    progress.update("done", 1.0);
+    let rain = cache
+        .products
+        .rain
+        .clone()
+        .ok_or_else(|| Error::Preset("the rain did not run".into()))?;
+    let report = Report {
+        image: Size {
+            width: w,
+            height: h,
+        },
+        grid: GridReport {
+            width: grid.width,
+            height: grid.height,
+            scale: grid.scale,
+        },
+        seed: preset.seed,
+        layers: layer_reports,
+        effects,
+        timings: clock.timings,
+    };
+    Ok(Outcome {
+        stack,
+        report,
+        rain,
+        grid,
+    })
+}
+
+/// The effects in the wall plane of `quad` (Endo et al.), with layers
+/// warped back to the photo. Source lines in `preset` are photo pixels and
+/// are mapped into the plane; a normal map is resampled into it.
+fn in_plane(
+    scene: &Scene,
+    quad: &Quad,
+    preset: &Preset,
+    progress: &Progress,
+    cache: &mut Cache,
+    valid: &BTreeSet<Effect>,
+) -> Result<Outcome> {
+    let (w, h) = scene.size();
+    let rect = Rectifier::new(quad, (w as u64 * h as u64).saturating_mul(2))?;
+    let region = scene.region.as_deref();
+    let mut plane = Scene::new(
+        rect.rectify_photo(&scene.photo),
+        Some(rect.rectify_mask(region, w, h)),
+    )?;
+    if let Some(normals) = &scene.normals {
+        plane = plane.with_normals(rect.rectify_rgb(normals))?;
+    }
+    let mut plane_preset = preset.clone();
+    for line in &mut plane_preset.rain.source_lines {
+        for p in line.iter_mut() {
+            let (u, v) = rect.photo_to_rect_unbounded(p[0], p[1]);
+            *p = [u, v];
+        }
+    }
+    progress.update("rectify", 0.02);
+    let out = run_effects(
+        &plane,
+        &plane_preset,
+        &progress.span(0.02, 0.9),
+        cache,
+        valid,
+        preset,
+    )?;
+    let mut layers = Vec::with_capacity(out.stack.layers.len());
+    for (i, layer) in out.stack.layers.iter().enumerate() {
+        progress.check()?;
+        progress.update(
+            "warp back",
+            0.9 + 0.1 * i as f32 / out.stack.layers.len() as f32,
+        );
+        layers.push(rect.unrectify_layer(layer, w, h, region));
+    }
+    let mut report = out.report;
+    report.image = Size {
+        width: w,
+        height: h,
+    };
+    for (r, l) in report.layers.iter_mut().zip(&layers) {
+        r.coverage = l.coverage();
+    }
+    progress.update("done", 1.0);
+    Ok(Outcome {
+        stack: Stack {
+            base: Arc::clone(&scene.photo),
+            layers,
+            region: scene.region.clone(),
+        },
+        report,
+        rain: out.rain,
+        grid: out.grid,
+    })
+}

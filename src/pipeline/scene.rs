@@ -1,0 +1,112 @@
+//! What is being aged: the photo, the wall region, the normal map and the
+//! wall plane, checked against each other once, here.
+
+use std::sync::Arc;
+
+use image::{GrayImage, RgbImage};
+
+use crate::error::{Error, Result};
+use crate::perspective::{self, Quad};
+use crate::photo::Photo;
+
+/// The photo and what is known about its wall. Build it with
+/// [`Scene::new`] and the `with_` methods, which check every part against
+/// the photo.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// The photo.
+    pub photo: Arc<Photo>,
+    /// Wall region, photo-sized, 255 = wall; `None` = the whole photo.
+    pub region: Option<Arc<GrayImage>>,
+    /// Tangent-space normal map of the wall, photo-sized, for the dust's
+    /// per-pixel view and light angles (see [`crate::effects::dust::shade`]).
+    pub normals: Option<Arc<RgbImage>>,
+    /// The wall plane: a quad on the photo whose corners are a rectangle on
+    /// the wall. The effects then run in that plane ([`crate::perspective`]).
+    pub quad: Option<Quad>,
+}
+
+impl Scene {
+    /// A scene; the region must have the photo's size.
+    ///
+    /// # Errors
+    /// [`Error::MaskSize`] for a mask of another size.
+    pub fn new(photo: Photo, region: Option<GrayImage>) -> Result<Scene> {
+        Scene::shared(Arc::new(photo), region.map(Arc::new))
+    }
+
+    /// [`Scene::new`] from shared buffers (a GUI keeps its photo and mask).
+    ///
+    /// # Errors
+    /// [`Error::MaskSize`] for a mask of another size.
+    pub fn shared(photo: Arc<Photo>, region: Option<Arc<GrayImage>>) -> Result<Scene> {
+        if let Some(m) = &region
+            && m.dimensions() != (photo.width(), photo.height())
+        {
+            return Err(Error::MaskSize {
+                mask_w: m.width(),
+                mask_h: m.height(),
+                img_w: photo.width(),
+                img_h: photo.height(),
+            });
+        }
+        Ok(Scene {
+            photo,
+            region,
+            normals: None,
+            quad: None,
+        })
+    }
+
+    /// The scene with a normal map for the dust.
+    ///
+    /// # Errors
+    /// [`Error::NormalMapSize`] for a map of another size than the photo.
+    pub fn with_normals(mut self, normals: RgbImage) -> Result<Scene> {
+        let (w, h) = (self.photo.width(), self.photo.height());
+        if normals.dimensions() != (w, h) {
+            return Err(Error::NormalMapSize {
+                map_w: normals.width(),
+                map_h: normals.height(),
+                img_w: w,
+                img_h: h,
+            });
+        }
+        self.normals = Some(Arc::new(normals));
+        Ok(self)
+    }
+
+    /// The scene in the wall plane of `quad` (photo pixels; `None` = the
+    /// photo's own plane).
+    ///
+    /// # Errors
+    /// [`perspective::validate`]'s errors for a bad quad.
+    pub fn with_quad(mut self, quad: Option<Quad>) -> Result<Scene> {
+        if let Some(q) = &quad {
+            perspective::validate(q)?;
+        }
+        self.quad = quad;
+        Ok(self)
+    }
+
+    /// Photo width and height.
+    pub fn size(&self) -> (u32, u32) {
+        (self.photo.width(), self.photo.height())
+    }
+
+    /// Whether `other` holds the same buffers (not only equal ones): what a
+    /// [`super::Cache`] was made for.
+    pub fn same_as(&self, other: &Scene) -> bool {
+        fn same<T>(a: &Option<Arc<T>>, b: &Option<Arc<T>>) -> bool {
+            match (a, b) {
+                (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+                (None, None) => true,
+                _ => false,
+            }
+        }
+        Arc::ptr_eq(&self.photo, &other.photo)
+            && same(&self.region, &other.region)
+            && same(&self.normals, &other.normals)
+            && self.quad == other.quad
+    }
+}
