@@ -5,6 +5,8 @@
 //! on thread scheduling, so output is byte-identical at any thread count.
 
 use rand::SeedableRng;
+
+use crate::effects::Effect;
 use rand_pcg::Pcg64Mcg;
 
 /// The random generator used everywhere (fast, value-stable across versions).
@@ -36,13 +38,34 @@ pub fn mix(mut z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// What names a random stream: a [`Stream`] of the first effects, or, for
+/// any effect, `(Effect, n)` (its own stream number `n`), so a new effect
+/// keeps its streams apart without a new [`Stream`] variant.
+pub trait StreamId: Copy {
+    /// The number mixed into the key.
+    fn id(self) -> u64;
+}
+
+impl StreamId for Stream {
+    fn id(self) -> u64 {
+        self as u64
+    }
+}
+
+impl StreamId for (Effect, u16) {
+    /// Above every [`Stream`] value: `2^32 + effect * 2^16 + n`.
+    fn id(self) -> u64 {
+        (1 << 32) | ((self.0 as u64) << 16) | self.1 as u64
+    }
+}
+
 /// A 64-bit key for (seed, stream, layer, index).
-pub fn key(seed: u64, stream: Stream, layer: u64, index: u64) -> u64 {
-    mix(mix(mix(mix(seed) ^ stream as u64) ^ layer) ^ index)
+pub fn key(seed: u64, stream: impl StreamId, layer: u64, index: u64) -> u64 {
+    mix(mix(mix(mix(seed) ^ stream.id()) ^ layer) ^ index)
 }
 
 /// An independent generator for (seed, stream, layer, index).
-pub fn rng(seed: u64, stream: Stream, layer: u64, index: u64) -> Rng {
+pub fn rng(seed: u64, stream: impl StreamId, layer: u64, index: u64) -> Rng {
     Rng::seed_from_u64(key(seed, stream, layer, index))
 }
 
@@ -237,6 +260,8 @@ mod tests {
         assert_ne!(base, key(1, Stream::Moss, 2, 3));
         assert_ne!(base, key(1, Stream::Droplet, 3, 3));
         assert_ne!(base, key(1, Stream::Droplet, 2, 4));
+        assert_ne!(base, key(1, (Effect::Rain, Stream::Droplet as u16), 2, 3));
+        assert_ne!(key(1, (Effect::Rain, 0), 2, 3), key(1, (Effect::Moss, 0), 2, 3));
         let a: u64 = rng(1, Stream::Droplet, 2, 3).random();
         let b: u64 = rng(1, Stream::Droplet, 2, 3).random();
         assert_eq!(a, b);
