@@ -353,6 +353,12 @@ mod tests {
     use crate::preset::Preset;
     use crate::progress::Progress;
 
+    /// The pipeline on `scene` in the wall plane of `quad`.
+    fn in_plane(scene: &Scene, quad: Quad, preset: &Preset) -> pipeline::Outcome {
+        let scene = scene.clone().with_quad(Some(quad)).unwrap();
+        pipeline::run(&scene, preset, &Progress::none()).unwrap()
+    }
+
     fn small_preset(lines: Vec<Vec<[f32; 2]>>) -> Preset {
         let mut p = Preset::default();
         p.rain.layers = 2;
@@ -398,12 +404,7 @@ mod tests {
         let preset = small_preset(d.source_lines);
         let plain = pipeline::run(&scene, &preset, &Progress::none()).unwrap();
         let quad = [[0.0, 0.0], [160.0, 0.0], [160.0, 120.0], [0.0, 120.0]];
-        let warped = pipeline::run(
-            &scene.clone().with_quad(Some(quad)).unwrap(),
-            &preset,
-            &Progress::none(),
-        )
-        .unwrap();
+        let warped = in_plane(&scene, quad, &preset);
         assert_eq!(plain.stack.layers.len(), warped.stack.layers.len());
         for (la, lb) in plain.stack.layers.iter().zip(&warped.stack.layers) {
             let (a, b) = (la.to_rgba(), lb.to_rgba());
@@ -427,12 +428,7 @@ mod tests {
         let quad = [[40.0, 20.0], [120.0, 30.0], [118.0, 100.0], [42.0, 110.0]];
         let mut preset = small_preset(vec![vec![[40.0, 40.0], [120.0, 45.0]]]);
         preset.stain.strength = 3.0;
-        let out = pipeline::run(
-            &scene.clone().with_quad(Some(quad)).unwrap(),
-            &preset,
-            &Progress::none(),
-        )
-        .unwrap();
+        let out = in_plane(&scene, quad, &preset);
         let composite = out.stack.composite().to_rgb8();
         let base = scene.photo.image().to_rgb8();
         let inside = quad_mask(&quad, 160, 120).unwrap();
@@ -467,12 +463,7 @@ mod tests {
         preset.rain.top_edge = false;
         preset.rain.layers = 1;
         preset.stain.strength = 3.0;
-        let out = pipeline::run(
-            &scene.clone().with_quad(Some(quad)).unwrap(),
-            &preset,
-            &Progress::none(),
-        )
-        .unwrap();
+        let out = in_plane(&scene, quad, &preset);
         let LayerPixels::Tint { alpha, .. } = &out.stack.layers[0].pixels else {
             panic!("tint")
         };

@@ -261,7 +261,10 @@ mod tests {
         assert_ne!(base, key(1, Stream::Droplet, 3, 3));
         assert_ne!(base, key(1, Stream::Droplet, 2, 4));
         assert_ne!(base, key(1, (Effect::Rain, Stream::Droplet as u16), 2, 3));
-        assert_ne!(key(1, (Effect::Rain, 0), 2, 3), key(1, (Effect::Moss, 0), 2, 3));
+        assert_ne!(
+            key(1, (Effect::Rain, 0), 2, 3),
+            key(1, (Effect::Moss, 0), 2, 3)
+        );
         let a: u64 = rng(1, Stream::Droplet, 2, 3).random();
         let b: u64 = rng(1, Stream::Droplet, 2, 3).random();
         assert_eq!(a, b);

@@ -272,3 +272,93 @@ fn in_plane(
         grid: out.grid,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::demo;
+    use crate::stack::LayerPixels;
+
+    fn small() -> (Scene, Preset) {
+        let d = demo::facade(120, 90);
+        let mut p = Preset::default();
+        p.rain.layers = 2;
+        p.rain.droplets = 120;
+        p.rain.source_lines = d.source_lines;
+        (Scene::new(d.photo, d.region).unwrap(), p)
+    }
+
+    fn pixels(out: &Outcome) -> Vec<Vec<u8>> {
+        let raw = |l: &crate::stack::Layer| match &l.pixels {
+            LayerPixels::Tint { alpha, .. } => alpha.as_raw().clone(),
+            LayerPixels::Rgba(img) => img.as_raw().clone(),
+        };
+        out.stack.layers.iter().map(raw).collect()
+    }
+
+    #[test]
+    fn a_cached_run_equals_a_fresh_one_and_keeps_what_is_valid() {
+        let (scene, mut p) = small();
+        let mut cache = Cache::default();
+        run_cached(&scene, &p, &Progress::none(), &mut cache).unwrap();
+        p.dust.days += 30;
+        let cached = run_cached(&scene, &p, &Progress::none(), &mut cache).unwrap();
+        let fresh = run(&scene, &p, &Progress::none()).unwrap();
+        assert_eq!(pixels(&cached), pixels(&fresh));
+        let stages: Vec<&str> = cached
+            .report
+            .timings
+            .iter()
+            .map(|t| t.stage.as_str())
+            .collect();
+        assert!(
+            stages.contains(&"rain (kept)") && stages.contains(&"moss (kept)"),
+            "{stages:?}"
+        );
+        assert!(stages.contains(&"dust"), "dust re-ran: {stages:?}");
+        // Another scene (new buffers) starts the cache afresh.
+        let other = Scene::shared(Arc::clone(&scene.photo), None).unwrap();
+        let out = run_cached(&other, &p, &Progress::none(), &mut cache).unwrap();
+        assert!(
+            out.report
+                .timings
+                .iter()
+                .all(|t| !t.stage.ends_with("(kept)"))
+        );
+    }
+
+    #[test]
+    fn fewer_rainfalls_hide_layers_without_a_new_simulation() {
+        let (scene, mut p) = small();
+        p.moss.enabled = false;
+        p.dust.enabled = false;
+        let mut cache = Cache::default();
+        run_cached(&scene, &p, &Progress::none(), &mut cache).unwrap();
+        p.rain.layers = 1;
+        let out = run_cached(&scene, &p, &Progress::none(), &mut cache).unwrap();
+        let visible: Vec<bool> = out.stack.layers.iter().map(|l| l.visible).collect();
+        assert_eq!(visible, [true, false]);
+        assert!(out.report.timings.iter().any(|t| t.stage == "rain (kept)"));
+    }
+
+    #[test]
+    fn a_quad_keeps_the_normal_map() {
+        let (scene, mut p) = small();
+        p.rain.layers = 0;
+        p.moss.enabled = false;
+        let (w, h) = scene.size();
+        // Every normal facing down: the dust collects less (shade.rs).
+        let down = image::RgbImage::from_pixel(w, h, image::Rgb([128, 0, 128]));
+        let quad = [
+            [0.0, 0.0],
+            [w as f32, 0.0],
+            [w as f32, h as f32],
+            [0.0, h as f32],
+        ];
+        let plain = scene.clone().with_quad(Some(quad)).unwrap();
+        let with_normals = plain.clone().with_normals(down).unwrap();
+        let a = run(&plain, &p, &Progress::none()).unwrap();
+        let b = run(&with_normals, &p, &Progress::none()).unwrap();
+        assert_ne!(pixels(&a), pixels(&b), "the normal map changed the dust");
+    }
+}
