@@ -12,6 +12,7 @@ use crate::effects::moss::{self, MossInput, MossStats, Wet};
 use crate::effects::rain::{self, LayerStats, RainInput, RainOutput};
 use crate::effects::region::Region;
 use crate::error::{Error, Result};
+use crate::field::RowMajor;
 use crate::grid::Grid;
 use crate::photo::Photo;
 use crate::preset::Preset;
@@ -199,8 +200,6 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
         .map(|line| line.iter().map(|p| grid.to_grid(p[0], p[1])).collect())
         .collect();
     let input = RainInput {
-        width: grid.width,
-        height: grid.height,
         luma: &luma,
         region: &region,
         source_lines,
@@ -238,7 +237,7 @@ pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcom
     let moss = match preset.moss.enabled {
         false => None,
         true => {
-            let input = moss_input(&grid, &luma, &region, &rain, preset);
+            let input = moss_input(&luma, &region, &rain, preset);
             let (layer, stats) =
                 moss_layer(&input, &grid, &wall, preset, &progress.span(0.8, 0.9))?;
             reports.push(LayerReport::of(&layer, None));
@@ -311,9 +310,8 @@ impl LayerReport {
 /// What moss grows from: the rain's final water and dirt, or (with no
 /// rainfall) the preset's humidity.
 fn moss_input<'a>(
-    grid: &Grid,
-    luma: &'a [f32],
-    region: &'a [bool],
+    luma: &'a RowMajor<f32>,
+    region: &'a RowMajor<bool>,
     rain: &'a RainOutput,
     preset: &Preset,
 ) -> MossInput<'a> {
@@ -323,13 +321,7 @@ fn moss_input<'a>(
         dirt: &rain.dirt,
         d_max: moss::d_max(&rain.dirt, region, preset.stain.percentile),
     });
-    MossInput {
-        width: grid.width,
-        height: grid.height,
-        luma,
-        region,
-        wet,
-    }
+    MossInput { luma, region, wet }
 }
 
 /// The "moss" layer.

@@ -3,5 +3,8 @@
 
 pub mod dust;
 pub mod moss;
+pub mod patches;
+pub mod percentile;
 pub mod rain;
 pub mod region;
+pub mod roughness;
