@@ -63,8 +63,6 @@ fn moss_facade(c: &mut Criterion) {
     let luma = out.grid.luma(&scene.photo);
     let region = Region::new(960, 720, mask).expect("region");
     let input = MossInput {
-        width: out.grid.width,
-        height: out.grid.height,
         luma: &luma,
         region: &grid_region,
         wet: Some(Wet {

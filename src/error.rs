@@ -100,6 +100,17 @@ pub enum Error {
         /// The file involved.
         path: PathBuf,
     },
+    /// A preset asks for more work or memory than grime will start, though
+    /// each of its values is in range.
+    #[error("preset: {need}, over the limit of {limit}; {fix}")]
+    TooMuchWork {
+        /// What the run would need, e.g. "about 9.4e11 droplet steps".
+        need: String,
+        /// The limit, in the same unit.
+        limit: String,
+        /// Which preset fields to change, and how.
+        fix: String,
+    },
     /// The caller cancelled the run.
     #[error("cancelled")]
     Cancelled,

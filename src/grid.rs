@@ -12,6 +12,7 @@ use image::GrayImage;
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::field::RowMajor;
 use crate::photo::Photo;
 
 /// Mask values at or above this are wall.
@@ -88,9 +89,10 @@ impl Grid {
     }
 
     /// Area-averaged luminance B on the grid.
-    pub fn luma(&self, photo: &Photo) -> Vec<f32> {
-        let mut out = vec![0.0; self.width * self.height];
-        out.par_chunks_mut(self.width)
+    pub fn luma(&self, photo: &Photo) -> RowMajor<f32> {
+        let mut out = RowMajor::filled(self.width, self.height, 0.0);
+        out.data_mut()
+            .par_chunks_mut(self.width)
             .enumerate()
             .for_each(|(gy, row)| {
                 let (ya, yb) = self.cell_span(gy, self.y0, self.box_h, self.height);
@@ -113,12 +115,13 @@ impl Grid {
 
     /// The region on the grid: a cell is wall when at least half its photo
     /// pixels are (all cells without a mask).
-    pub fn region(&self, mask: Option<&GrayImage>) -> Vec<bool> {
+    pub fn region(&self, mask: Option<&GrayImage>) -> RowMajor<bool> {
         let Some(mask) = mask else {
-            return vec![true; self.width * self.height];
+            return RowMajor::filled(self.width, self.height, true);
         };
-        let mut out = vec![false; self.width * self.height];
-        out.par_chunks_mut(self.width)
+        let mut out = RowMajor::filled(self.width, self.height, false);
+        out.data_mut()
+            .par_chunks_mut(self.width)
             .enumerate()
             .for_each(|(gy, row)| {
                 let (ya, yb) = self.cell_span(gy, self.y0, self.box_h, self.height);
@@ -136,18 +139,20 @@ impl Grid {
         out
     }
 
-    /// Upsamples grid values in 0..1 to a photo-sized 8-bit coverage map,
-    /// bilinearly, weighted by the mask (value / 255). Pixels outside the
-    /// mask get exactly 0.
+    /// Upsamples grid values in 0..1 (a field of the grid's size) to a
+    /// photo-sized 8-bit coverage map, bilinearly, weighted by the mask
+    /// (value / 255). Pixels outside the mask get exactly 0.
     pub fn upsample(
         &self,
-        values: &[f32],
+        values: &RowMajor<f32>,
         mask: Option<&GrayImage>,
         photo_w: u32,
         photo_h: u32,
     ) -> GrayImage {
         let mut out = GrayImage::new(photo_w, photo_h);
         let (gw, gh) = (self.width, self.height);
+        assert_eq!((values.width(), values.height()), (gw, gh), "grid field");
+        let values = values.data();
         // Photo columns grouped by the pair of grid cells they interpolate
         // between: (left cell, first column, end column); tx per column.
         let mut spans: Vec<(usize, usize, usize)> = Vec::new();
@@ -260,7 +265,7 @@ mod tests {
         let photo = Photo::new(DynamicImage::ImageRgb8(img));
         let g = Grid::new(4, 2, None, 2).unwrap();
         assert_eq!((g.width, g.height), (2, 1));
-        for v in g.luma(&photo) {
+        for &v in g.luma(&photo).data() {
             assert!((v - 100.0).abs() < 0.1, "{v}");
         }
     }
@@ -268,7 +273,7 @@ mod tests {
     #[test]
     fn upsample_is_identity_at_scale_one_and_zero_outside_mask() {
         let g = Grid::new(3, 2, None, 0).unwrap();
-        let vals = [0.0, 0.5, 1.0, 0.2, 0.4, 0.6];
+        let vals = RowMajor::new(3, 2, vec![0.0, 0.5, 1.0, 0.2, 0.4, 0.6]);
         let mut mask = GrayImage::from_pixel(3, 2, Luma([255]));
         mask.put_pixel(1, 1, Luma([0]));
         let up = g.upsample(&vals, Some(&mask), 3, 2);

@@ -25,6 +25,7 @@ pub mod demo;
 pub mod effects;
 pub mod error;
 pub mod export;
+pub mod field;
 pub mod grid;
 #[cfg(feature = "gui")]
 pub mod gui;

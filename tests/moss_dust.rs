@@ -7,6 +7,7 @@ use std::collections::HashSet;
 use grime::effects::dust::{self, DustState, granules};
 use grime::effects::moss;
 use grime::effects::region::Region;
+use grime::field::RowMajor;
 use grime::pipeline::{self, Outcome, Scene};
 use grime::preset::{DustEnvironment, Preset};
 use grime::progress::Progress;
@@ -220,7 +221,7 @@ fn moss_density_correlates_with_wetness() {
         let out = run(&scene, &p);
         let (gw, gh) = (out.grid.width, out.grid.height);
         assert_eq!((gw, gh, out.grid.scale), (480, 360, 1.0));
-        let region = vec![true; gw * gh];
+        let region = RowMajor::filled(gw, gh, true);
         let d_max = moss::d_max(&out.rain.dirt, &region, p.stain.percentile);
         let moss_alpha = alpha(layer(&out, "moss"));
         // Blocks of 40 x 40 pixels: mean (w/a + D/D_max) against mean moss alpha.
@@ -231,8 +232,8 @@ fn moss_density_correlates_with_wetness() {
                 for y in by..by + bs {
                     for x in bx..bx + bs {
                         let i = y * gw + x;
-                        let wa = (out.rain.water[i] / p.rain.saturation).min(1.0);
-                        wet += (wa + (out.rain.dirt[i] / d_max).min(1.0)) as f64;
+                        let wa = (out.rain.water.get(x, y) / p.rain.saturation).min(1.0);
+                        wet += (wa + (out.rain.dirt.get(x, y) / d_max).min(1.0)) as f64;
                         moss_sum += moss_alpha[i] as f64 / 255.0;
                     }
                 }

@@ -25,8 +25,11 @@
 
 pub mod dust;
 pub mod moss;
+pub mod patches;
+pub mod percentile;
 pub mod rain;
 pub mod region;
+pub mod roughness;
 mod stages;
 
 use std::collections::BTreeSet;
@@ -36,6 +39,7 @@ use image::{GrayImage, RgbImage};
 use serde::Serialize;
 
 use crate::error::Result;
+use crate::field::RowMajor;
 use crate::grid::Grid;
 use crate::preset::Preset;
 use crate::progress::Progress;
@@ -161,10 +165,10 @@ impl Effect {
 pub struct Context<'a> {
     /// The simulation grid.
     pub grid: &'a Grid,
-    /// Luminance on the grid, row-major (`y * width + x`), 0..255.
-    pub luma: &'a [f32],
-    /// The region on the grid, row-major: true = wall.
-    pub region: &'a [bool],
+    /// Luminance on the grid, 0..255.
+    pub luma: &'a RowMajor<f32>,
+    /// The region on the grid: true = wall.
+    pub region: &'a RowMajor<bool>,
     /// The region at the photo's size (255 = wall), `None` = whole photo.
     pub mask: Option<&'a GrayImage>,
     /// The region as a pixel sampler at the photo's size.

@@ -57,8 +57,11 @@ use rand::Rng as _;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::effects::percentile::{Rank, percentile};
 use crate::effects::region::Region;
+use crate::effects::roughness;
 use crate::error::Result;
+use crate::field::{Field, Order, RowMajor};
 use crate::grid::Grid;
 use crate::preset::MossParams;
 use crate::progress::Progress;
@@ -67,12 +70,12 @@ use crate::random::{self, Rng, Stream};
 /// The rain's wall state, on the simulation grid.
 #[derive(Debug, Clone, Copy)]
 pub struct Wet<'a> {
-    /// Wall water w, row-major.
-    pub water: &'a [f32],
+    /// Wall water w.
+    pub water: &'a RowMajor<f32>,
     /// Saturation a.
     pub saturation: f32,
-    /// Wall dirt D, row-major.
-    pub dirt: &'a [f32],
+    /// Wall dirt D.
+    pub dirt: &'a RowMajor<f32>,
     /// D_max.
     pub d_max: f32,
 }
@@ -80,16 +83,19 @@ pub struct Wet<'a> {
 /// What moss grows from, on the simulation grid.
 #[derive(Debug, Clone, Copy)]
 pub struct MossInput<'a> {
-    /// Grid width.
-    pub width: usize,
-    /// Grid height.
-    pub height: usize,
-    /// Photo luminance B in 0..255, row-major.
-    pub luma: &'a [f32],
-    /// Region on the grid, row-major.
-    pub region: &'a [bool],
-    /// The rain's water and dirt; `None` = use `humidity`.
+    /// Photo luminance B in 0..255 on the grid.
+    pub luma: &'a RowMajor<f32>,
+    /// Region on the grid.
+    pub region: &'a RowMajor<bool>,
+    /// The rain's water and dirt, on the grid; `None` = use `humidity`.
     pub wet: Option<Wet<'a>>,
+}
+
+impl MossInput<'_> {
+    /// Grid width and height.
+    fn size(&self) -> (usize, usize) {
+        (self.luma.width(), self.luma.height())
+    }
 }
 
 /// One colony.
@@ -142,41 +148,42 @@ pub fn seed_probability(w_a: f32, d: f32, m_y: f32, gamma: f32) -> f32 {
 
 /// The wetness term 1/2 (w/a + D/D_max) per grid pixel, each ratio clamped
 /// to [0, 1]; or the humidity profile without rain. 0 outside the region.
-pub fn wetness(input: &MossInput, humidity: f32) -> Vec<f32> {
-    let (w, h) = (input.width, input.height);
-    (0..w * h)
+pub fn wetness(input: &MossInput, humidity: f32) -> RowMajor<f32> {
+    let (w, h) = input.size();
+    let region = input.region.data();
+    let values = (0..w * h)
         .into_par_iter()
         .map(|i| {
-            if !input.region[i] {
+            if !region[i] {
                 return 0.0;
             }
             match input.wet {
                 Some(wet) => {
-                    let wa = (wet.water[i] / wet.saturation.max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
-                    let d = (wet.dirt[i] / wet.d_max.max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+                    let (water, dirt) = (wet.water.data()[i], wet.dirt.data()[i]);
+                    let wa = (water / wet.saturation.max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+                    let d = (dirt / wet.d_max.max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
                     0.5 * (wa + d)
                 }
                 None => humidity * (1.0 - 0.5 * (i / w) as f32 / h.max(1) as f32),
             }
         })
-        .collect()
+        .collect();
+    RowMajor::new(w, h, values)
 }
 
 /// f(p) of eq. 18 on the grid: 2 x wetness x M_y x gamma, clamped.
-pub fn probability(input: &MossInput, p: &MossParams) -> Vec<f32> {
-    let (w, h) = (input.width, input.height);
+pub fn probability(input: &MossInput, p: &MossParams) -> RowMajor<f32> {
+    let (w, h) = input.size();
     let wet = wetness(input, p.humidity);
-    (0..w * h)
+    let values = (0..w * h)
         .into_par_iter()
         .map(|i| {
-            let (x, y) = (i % w, i / w);
-            // Chang eq. (1): M_y = |B(x, y) - B(x, y+1)| / 255, index clamped.
-            let below = input.luma[(y + 1).min(h - 1) * w + x];
-            let m_y = (input.luma[i] - below).abs() / 255.0;
-            // Chang eq. (18), with wet[i] = 1/2 (w/a + D/D_max).
-            (wet[i] * m_y * p.gamma).clamp(0.0, 1.0)
+            let m_y = roughness::m_y_clamped(input.luma, i % w, i / w);
+            // Chang eq. (18), with wet = 1/2 (w/a + D/D_max).
+            (wet.data()[i] * m_y * p.gamma).clamp(0.0, 1.0)
         })
-        .collect()
+        .collect();
+    RowMajor::new(w, h, values)
 }
 
 /// The grown moss: its layer and what is in it.
@@ -265,7 +272,7 @@ impl Occupancy {
 #[allow(clippy::too_many_arguments)]
 fn colonise(
     input: &MossInput,
-    f: &[f32],
+    f: &RowMajor<f32>,
     grid: &Grid,
     region: &Region,
     p: &MossParams,
@@ -273,15 +280,24 @@ fn colonise(
     seed: u64,
     progress: &Progress,
 ) -> Result<Vec<Colony>> {
-    let sample = |field: &[f32], x: f32, y: f32| {
+    let (w, h) = input.size();
+    let sample = |field: &RowMajor<f32>, x: f32, y: f32| {
         let (gx, gy) = grid.to_grid(x, y);
-        let gx = (gx.max(0.0) as usize).min(input.width - 1);
-        let gy = (gy.max(0.0) as usize).min(input.height - 1);
-        field[gy * input.width + gx]
+        field.get(
+            (gx.max(0.0) as usize).min(w - 1),
+            (gy.max(0.0) as usize).min(h - 1),
+        )
     };
     let radius = ((baseline / 2.0) / grid.scale).round().max(1.0) as usize;
-    let local = box_mean(f, input.region, input.width, input.height, radius);
-    let f_ref = percentile(&local, input.region, 0.99).max(1e-9);
+    let local = box_mean(f, input.region, radius);
+    let in_region = local.data().iter().zip(input.region.data());
+    let f_ref = percentile(
+        in_region.filter(|(_, r)| **r).map(|(v, _)| *v),
+        0.99,
+        Rank::Below,
+    )
+    .unwrap_or(0.0)
+    .max(1e-9);
     let vigour = |x: f32, y: f32| (sample(&local, x, y) / f_ref).min(1.0);
     let mut taken = Occupancy::new(region.width(), region.height(), baseline / 2.0);
     let candidates = (p.seed_rate as f64 * region.area() as f64
@@ -341,29 +357,23 @@ fn colonise(
     Ok(colonies)
 }
 
-/// D_max for eq. 18: the `percentile` of the positive wall dirt over the
+/// D_max for eq. 18: the `q`-quantile of the positive wall dirt over the
 /// region (1 when the wall is clean).
-pub fn d_max(dirt: &[f32], region: &[bool], percentile: f32) -> f32 {
-    let positive: Vec<f32> = dirt
+pub fn d_max<O: Order>(dirt: &Field<f32, O>, region: &Field<bool, O>, q: f32) -> f32 {
+    let positive = dirt
+        .data()
         .iter()
-        .zip(region)
+        .zip(region.data())
         .filter(|(d, r)| **r && **d > 0.0)
-        .map(|(d, _)| *d)
-        .collect();
-    if positive.is_empty() {
-        return 1.0;
-    }
-    percentile_of(positive, percentile).max(f32::MIN_POSITIVE)
-}
-
-fn percentile_of(mut v: Vec<f32>, q: f32) -> f32 {
-    let k = ((v.len() - 1) as f32 * q.clamp(0.0, 1.0)) as usize;
-    *v.select_nth_unstable_by(k, f32::total_cmp).1
+        .map(|(d, _)| *d);
+    percentile(positive, q, Rank::Below).map_or(1.0, |v| v.max(f32::MIN_POSITIVE))
 }
 
 /// Mean of `values` over the region cells within `radius` (a square
 /// window), per grid cell; 0 outside the region.
-fn box_mean(values: &[f32], region: &[bool], w: usize, h: usize, radius: usize) -> Vec<f32> {
+fn box_mean(values: &RowMajor<f32>, region: &RowMajor<bool>, radius: usize) -> RowMajor<f32> {
+    let (w, h) = (values.width(), values.height());
+    let (values, region) = (values.data(), region.data());
     // Separable running sums of value and of region membership.
     let blur = |src: &[f32], along_x: bool| -> Vec<f32> {
         let (len, lines) = if along_x { (w, h) } else { (h, w) };
@@ -394,25 +404,13 @@ fn box_mean(values: &[f32], region: &[bool], w: usize, h: usize, radius: usize) 
     let ones: Vec<f32> = region.iter().map(|r| f32::from(u8::from(*r))).collect();
     let sum = blur(&blur(&masked, true), false);
     let count = blur(&blur(&ones, true), false);
-    sum.iter()
+    let mean = sum
+        .iter()
         .zip(&count)
         .zip(region)
         .map(|((s, c), r)| if *r && *c > 0.0 { s / c } else { 0.0 })
-        .collect()
-}
-
-/// The `q`-quantile of `values` over the region (0 if empty).
-fn percentile(values: &[f32], region: &[bool], q: f32) -> f32 {
-    let v: Vec<f32> = values
-        .iter()
-        .zip(region)
-        .filter(|(_, r)| **r)
-        .map(|(v, _)| *v)
         .collect();
-    if v.is_empty() {
-        return 0.0;
-    }
-    percentile_of(v, q)
+    RowMajor::new(w, h, mean)
 }
 
 /// One spore dot.
@@ -591,29 +589,19 @@ mod tests {
     use super::*;
     use image::GrayImage;
 
-    fn flat(w: usize, h: usize) -> (Vec<f32>, Vec<bool>) {
+    fn flat(w: usize, h: usize) -> (RowMajor<f32>, RowMajor<bool>) {
         // A rough wall: luminance alternates every row, so M_y = 0.4.
-        let luma = (0..w * h)
-            .map(|i| {
-                if (i / w).is_multiple_of(2) {
-                    100.0
-                } else {
-                    202.0
-                }
-            })
-            .collect();
-        (luma, vec![true; w * h])
+        let luma = RowMajor::from_fn(w, h, |_, y| if y.is_multiple_of(2) { 100.0 } else { 202.0 });
+        (luma, RowMajor::filled(w, h, true))
     }
 
     #[test]
     fn probability_follows_eq_18() {
         let (w, h) = (4, 4);
         let (luma, region) = flat(w, h);
-        let water = vec![0.15; w * h];
-        let dirt = vec![2.0; w * h];
+        let water = RowMajor::filled(w, h, 0.15);
+        let dirt = RowMajor::filled(w, h, 2.0);
         let input = MossInput {
-            width: w,
-            height: h,
             luma: &luma,
             region: &region,
             wet: Some(Wet {
@@ -629,16 +617,17 @@ mod tests {
         };
         let f = probability(&input, &p);
         // 1/2 (0.5 + 0.5) * 0.4 * 1.0
-        assert!((f[0] - 0.2).abs() < 1e-6, "{}", f[0]);
-        assert_eq!(f[w * (h - 1)], 0.0, "last row: index clamped, M_y = 0");
+        assert!((f.get(0, 0) - 0.2).abs() < 1e-6, "{}", f.get(0, 0));
+        assert_eq!(f.get(0, h - 1), 0.0, "last row: index clamped, M_y = 0");
     }
 
     #[test]
     fn box_mean_matches_a_plain_window_average() {
         let (w, h) = (9, 7);
-        let values: Vec<f32> = (0..w * h).map(|i| ((i * 37) % 11) as f32).collect();
-        let region: Vec<bool> = (0..w * h).map(|i| i % 5 != 0).collect();
-        let got = box_mean(&values, &region, w, h, 2);
+        let values = RowMajor::from_fn(w, h, |x, y| ((y * w + x) * 37 % 11) as f32);
+        let region = RowMajor::from_fn(w, h, |x, y| (y * w + x) % 5 != 0);
+        let got = box_mean(&values, &region, 2);
+        let (got, values, region) = (got.data(), values.data(), region.data());
         for y in 0..h {
             for x in 0..w {
                 let (mut s, mut n) = (0.0, 0.0);
@@ -669,18 +658,12 @@ mod tests {
     }
 
     /// Moss on a wall whose left half is wet and right half dry.
-    fn half_wet(p: &MossParams) -> (Moss, Vec<f32>) {
+    fn half_wet(p: &MossParams) -> (Moss, RowMajor<f32>) {
         let (w, h) = (160, 120);
         let (luma, region) = flat(w, h);
-        let water: Vec<f32> = (0..w * h)
-            .map(|i| if i % w < w / 2 { 0.3 } else { 0.0 })
-            .collect();
-        let dirt: Vec<f32> = (0..w * h)
-            .map(|i| if i % w < w / 2 { 1.0 } else { 0.1 })
-            .collect();
+        let water = RowMajor::from_fn(w, h, |x, _| if x < w / 2 { 0.3 } else { 0.0 });
+        let dirt = RowMajor::from_fn(w, h, |x, _| if x < w / 2 { 1.0 } else { 0.1 });
         let input = MossInput {
-            width: w,
-            height: h,
             luma: &luma,
             region: &region,
             wet: Some(Wet {
@@ -724,18 +707,15 @@ mod tests {
     #[test]
     fn dots_stay_inside_the_mask() {
         let (w, h) = (120usize, 90usize);
-        let (luma, grid_region) = flat(w, h);
         let mask = GrayImage::from_fn(w as u32, h as u32, |x, _| {
             image::Luma([if x < 60 { 255 } else { 0 }])
         });
         let grid = Grid::new(w as u32, h as u32, Some(&mask), 0).unwrap();
         assert_eq!(grid.width, 60);
-        let luma = &luma[..60 * h];
+        let (luma, grid_region) = flat(60, h);
         let input = MossInput {
-            width: 60,
-            height: h,
-            luma,
-            region: &grid_region[..60 * h],
+            luma: &luma,
+            region: &grid_region,
             wet: None,
         };
         let region = Region::new(w as u32, h as u32, Some(&mask)).unwrap();

@@ -56,8 +56,6 @@ pub(super) fn rain(
         .map(|line| line.iter().map(|p| grid.to_grid(p[0], p[1])).collect())
         .collect();
     let input = RainInput {
-        width: grid.width,
-        height: grid.height,
         luma: ctx.luma,
         region: ctx.region,
         source_lines,
@@ -128,8 +126,6 @@ pub(super) fn moss(
         d_max: moss::d_max(&r.dirt, ctx.region, preset.stain.percentile),
     });
     let input = MossInput {
-        width: ctx.grid.width,
-        height: ctx.grid.height,
         luma: ctx.luma,
         region: ctx.region,
         wet,

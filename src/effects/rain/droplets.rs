@@ -4,11 +4,13 @@
 //! A droplet runs inside a [`Patch`]: a band of whole columns of the wall
 //! that no other thread touches meanwhile. When it steps out of its patch it
 //! is parked, and resumes later in the patch that holds its new column
-//! (see [`super::patches`]).
+//! (see [`crate::effects::patches`]).
 
 use rand::Rng as _;
 
-use super::wall::roughness;
+use super::wall::{Patch, Wall};
+use crate::effects::patches::{Particle, Space};
+use crate::effects::roughness;
 use crate::preset::RainParams;
 use crate::random::Rng;
 
@@ -127,24 +129,6 @@ impl Laws {
     }
 }
 
-/// The columns of the wall one droplet queue may touch: water `w` and dirt
-/// `d` for storage indices `first..first + w.len()`, and the height field
-/// and region of the whole wall.
-pub struct Patch<'a> {
-    /// Height field B of the whole padded wall, column-major.
-    pub b: &'a [f32],
-    /// 1 inside the region, per padded pixel.
-    pub inside: &'a [f32],
-    /// Padded rows: the index step from one column to the next.
-    pub rows: usize,
-    /// Storage index of the patch's first pixel.
-    pub first: usize,
-    /// Water w of the patch's columns.
-    pub w: &'a mut [f32],
-    /// Dirt D of the patch's columns.
-    pub d: &'a mut [f32],
-}
-
 /// A droplet that has started and may be parked between patches.
 #[derive(Debug, Clone)]
 pub struct Runner {
@@ -235,13 +219,41 @@ impl Runner {
         drop.s -= dirt;
         patch.d[j] += dirt;
 
-        let (mx, my) = roughness(patch.b, rows, i);
+        let (mx, my) = roughness::at(patch.b, i, rows, 1);
         let xi1: f32 = self.rng.random::<f32>() * 2.0 - 1.0;
         (drop.vx, drop.vy) = laws.accelerate(drop.vx, drop.vy, mx, my, xi1);
         drop.x += drop.vx;
         drop.y += drop.vy;
         trace.steps += 1;
         true
+    }
+}
+
+impl Particle for Runner {
+    type Patch<'a> = Patch<'a>;
+    type Laws = Laws;
+
+    fn index(&self) -> usize {
+        self.index
+    }
+    fn column(&self) -> usize {
+        Runner::column(self)
+    }
+    fn ended(&self) -> bool {
+        self.trace.outcome.is_some()
+    }
+    #[inline(always)]
+    fn step(&mut self, patch: &mut Patch<'_>, laws: &Laws) -> bool {
+        Runner::step(self, patch, laws)
+    }
+}
+
+impl Space<Runner> for Wall {
+    fn columns(&self) -> usize {
+        self.cols
+    }
+    fn patches(&mut self, bounds: &[usize]) -> Vec<Patch<'_>> {
+        Wall::patches(self, bounds)
     }
 }
 
@@ -298,8 +310,8 @@ impl Tail {
 
 #[cfg(test)]
 mod tests {
-    use super::super::wall::Wall;
     use super::*;
+    use crate::field::RowMajor;
     use crate::random::{Stream, rng};
     use proptest::prelude::*;
 
@@ -393,10 +405,8 @@ mod tests {
     /// A textured 32 x 64 wall with 2 units of dirt everywhere.
     fn dirty_wall() -> Wall {
         let (width, height) = (32, 64);
-        let luma: Vec<f32> = (0..width * height)
-            .map(|i| ((i * 37) % 97) as f32)
-            .collect();
-        let mut wall = Wall::new(width, height, &luma, &vec![true; width * height]);
+        let luma = RowMajor::from_fn(width, height, |x, y| ((y * width + x) * 37 % 97) as f32);
+        let mut wall = Wall::new(&luma, &RowMajor::filled(width, height, true));
         for d in wall.d.iter_mut().zip(&wall.inside) {
             *d.0 = 2.0 * d.1;
         }

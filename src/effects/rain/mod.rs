@@ -5,7 +5,6 @@
 //! moss grows from. [`stain`] turns deposits into layer coverage.
 
 pub mod droplets;
-mod patches;
 pub mod sources;
 pub mod stain;
 pub mod wall;
@@ -14,7 +13,9 @@ use rand::Rng as _;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::error::Result;
+use crate::effects::patches;
+use crate::error::{Error, Result};
+use crate::field::{ColumnMajor, RowMajor};
 use crate::preset::RainParams;
 use crate::progress::Progress;
 use crate::random::{self, Stream};
@@ -25,14 +26,10 @@ use wall::{Column, Wall};
 /// What the rain runs on: the wall's luminance and region on the grid.
 #[derive(Debug, Clone)]
 pub struct RainInput<'a> {
-    /// Grid width.
-    pub width: usize,
-    /// Grid height.
-    pub height: usize,
-    /// Luminance B in 0..255, row-major.
-    pub luma: &'a [f32],
-    /// Region mask, row-major.
-    pub region: &'a [bool],
+    /// Luminance B in 0..255.
+    pub luma: &'a RowMajor<f32>,
+    /// Region mask, the size of `luma`.
+    pub region: &'a RowMajor<bool>,
     /// Source polylines in grid coordinates.
     pub source_lines: Vec<Vec<(f32, f32)>>,
 }
@@ -73,9 +70,9 @@ pub struct Path {
 #[derive(Debug, Clone)]
 pub struct RainLayer {
     /// Dirt this rainfall's droplets left, per grid pixel (max(D - D without
-    /// them, 0)), in column-major order: pixel (x, y) at `x * height + y`,
-    /// the order the wall is stored and water runs in.
-    pub deposit: Vec<f32>,
+    /// them, 0)), column by column: the order the wall is stored and water
+    /// runs in.
+    pub deposit: ColumnMajor<f32>,
     /// Numbers.
     pub stats: LayerStats,
     /// Every droplet's start and end.
@@ -85,18 +82,14 @@ pub struct RainLayer {
 /// The rain's result.
 #[derive(Debug, Clone)]
 pub struct RainOutput {
-    /// Grid width.
-    pub width: usize,
-    /// Grid height.
-    pub height: usize,
     /// One entry per rainfall, oldest first.
     pub layers: Vec<RainLayer>,
     /// Wall water w after the last rainfall.
-    pub water: Vec<f32>,
+    pub water: RowMajor<f32>,
     /// Wall dirt D after the last rainfall.
-    pub dirt: Vec<f32>,
+    pub dirt: RowMajor<f32>,
     /// Vertical roughness M_y of the final surface (eq. 1).
-    pub roughness_y: Vec<f32>,
+    pub roughness_y: RowMajor<f32>,
 }
 
 /// Droplets per rainfall for a region `width` grid pixels wide.
@@ -107,18 +100,107 @@ pub fn droplet_count(p: &RainParams, width: usize) -> u32 {
     ((p.droplets as f64 * width as f64 / p.reference_width as f64).round() as u32).max(1)
 }
 
+/// Half a patch's width, in grid columns, for [`patches::run`].
+const BAND: usize = 64;
+
+/// Droplets started and scheduled together at most [choice: a rainfall's
+/// droplets run in batches of this many, so the droplets in flight take a
+/// bounded amount of memory (about 400 bytes each) however many fall; a
+/// batch ends before the next starts, which only changes which droplets
+/// cross a patch border after which, and the droplet counts of the presets
+/// and demos are far below it].
+const SCHEDULE: usize = 1 << 16;
+
+/// Most droplet steps a simulation starts, estimated by [`Cost`]: minutes of
+/// work on a desktop.
+pub const MAX_STEPS: u64 = 10_000_000_000;
+
+/// Most memory a simulation may need, estimated by [`Cost`].
+pub const MAX_BYTES: u64 = 4 << 30;
+
+/// What a rain simulation will need, estimated before it starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Cost {
+    /// Droplet runs: droplets per rainfall x rainfalls.
+    pub runs: u64,
+    /// Droplet steps, about: each run for the grid's height at `v_max`
+    /// pixels a step, at most `max_steps`.
+    pub steps: u64,
+    /// Bytes: the wall, every rainfall's deposit, every droplet's path and
+    /// start, and the droplets in flight.
+    pub bytes: u64,
+}
+
+impl Cost {
+    /// The cost of `p` on a `width` x `height` grid.
+    pub fn of(p: &RainParams, width: usize, height: usize) -> Cost {
+        let n = droplet_count(p, width) as u64;
+        let layers = p.layers as u64;
+        let runs = n * layers;
+        let per_run = ((height as f64 / p.v_max.max(1e-3) as f64).ceil() as u64)
+            .clamp(1, p.max_steps.max(1) as u64);
+        let cells = width as u64 * height as u64;
+        let padded = (width as u64 + 2) * (height as u64 + 2);
+        let f32s = std::mem::size_of::<f32>() as u64;
+        let bytes = padded * 7 * f32s
+            + cells * layers * f32s
+            + runs * std::mem::size_of::<Path>() as u64
+            + n * 2 * f32s
+            + n.min(SCHEDULE as u64) * 2 * std::mem::size_of::<Runner>() as u64;
+        Cost {
+            runs,
+            steps: runs.saturating_mul(per_run),
+            bytes,
+        }
+    }
+
+    /// Refuses a cost over [`MAX_STEPS`] or [`MAX_BYTES`].
+    ///
+    /// # Errors
+    /// [`Error::TooMuchWork`] naming the preset fields that lower it.
+    pub fn check(&self) -> Result<()> {
+        let gb = |b: u64| format!("{:.1} GB", b as f64 / 1e9);
+        if self.steps > MAX_STEPS {
+            return Err(Error::TooMuchWork {
+                need: format!(
+                    "the rain would take about {:.1e} droplet steps ({} droplet runs)",
+                    self.steps as f64, self.runs
+                ),
+                limit: format!("{:.0e}", MAX_STEPS as f64),
+                fix: "lower rain.droplets, rain.layers or rain.max_steps, raise \
+                      rain.reference_width, or lower sim.max_side"
+                    .into(),
+            });
+        }
+        if self.bytes > MAX_BYTES {
+            return Err(Error::TooMuchWork {
+                need: format!("the rain would need about {} of memory", gb(self.bytes)),
+                limit: gb(MAX_BYTES),
+                fix: "lower rain.layers, rain.droplets or sim.max_side, or raise \
+                      rain.reference_width"
+                    .into(),
+            });
+        }
+        Ok(())
+    }
+}
+
 /// Runs `p.layers` rainfalls (Chang sec. 3), reporting progress and stopping
 /// when cancelled.
 ///
 /// # Errors
-/// [`crate::Error::Cancelled`] when the progress's cancel flag is set.
+/// [`Error::TooMuchWork`] when the preset asks for more than [`Cost::check`]
+/// allows on this grid, [`Error::Cancelled`] when the progress's cancel
+/// flag is set.
 pub fn simulate(
     input: &RainInput,
     p: &RainParams,
     seed: u64,
     progress: &Progress,
 ) -> Result<RainOutput> {
-    let mut wall = Wall::new(input.width, input.height, input.luma, input.region);
+    let (width, height) = (input.luma.width(), input.luma.height());
+    Cost::of(p, width, height).check()?;
+    let mut wall = Wall::new(input.luma, input.region);
     let mut sources = Vec::new();
     if p.top_edge {
         let edge = sources::top_edge(&wall);
@@ -130,15 +212,20 @@ pub fn simulate(
         let padded: Vec<_> = line.iter().map(|&(x, y)| (x + 1.0, y + 1.0)).collect();
         sources.push(Source::line(padded));
     }
-    let total_len: f32 = sources.iter().map(Source::length).sum();
-    let n = if total_len > 0.0 {
-        droplet_count(p, input.width) as usize
+    let clouds = Clouds {
+        total_len: sources.iter().map(Source::length).sum(),
+        sources,
+        p,
+        seed,
+    };
+    let n = if clouds.total_len > 0.0 {
+        droplet_count(p, width) as usize
     } else {
         0
     };
     let laws = Laws::new(p);
     let rounds = p.diffusion_rounds.max(1) as usize;
-    let area = input.region.iter().filter(|&&r| r).count().max(1);
+    let area = input.region.data().iter().filter(|&&r| r).count().max(1);
     // Per droplet: (position along the sources, mass), carried between layers.
     let mut starts: Vec<(f32, f32)> = vec![(0.0, 0.0); n];
     let mut layers: Vec<RainLayer> = Vec::with_capacity(p.layers as usize);
@@ -162,7 +249,7 @@ pub fn simulate(
                 let rows = wall.rows;
                 wall.b[rows..(wall.cols - 1) * rows]
                     .par_chunks_mut(rows)
-                    .zip(previous.deposit.par_chunks(input.height))
+                    .zip(previous.deposit.data().par_chunks(height))
                     .for_each(|(b, deposit)| {
                         for (b, d) in b[1..].iter_mut().zip(deposit) {
                             *b = (*b + raise * d).min(255.0);
@@ -173,64 +260,26 @@ pub fn simulate(
         let mut stats = LayerStats::default();
         let mut paths = Vec::with_capacity(n);
         let mut columns = Vec::new();
-        let mut deposit = vec![0.0; input.width * input.height];
+        let mut deposit = ColumnMajor::filled(width, height, 0.0);
         for round in 0..rounds {
-            // The droplets before this round's diffusion.
+            // The droplets before this round's diffusion, SCHEDULE at a time.
             let batch = (round * n).div_ceil(rounds)..((round + 1) * n).div_ceil(rounds);
-            let mut runners = Vec::with_capacity(batch.len());
-            for k in batch {
-                let mut rng = random::rng(seed, Stream::Droplet, layer as u64, k as u64);
-                let start = &mut starts[k];
-                *start = if layer == 0 {
-                    (
-                        rng.random::<f32>() * total_len,
-                        rng.random::<f32>() * p.mass_max,
-                    )
-                } else {
-                    // Chang eqs. (16-17): normal steps from the previous layer's
-                    // position and mass (independent draws, Box-Muller's two outputs).
-                    let (z_pos, z_mass) = random::box_muller(&mut rng);
-                    (
-                        start.0 + p.sigma * z_pos,
-                        (start.1 + p.sigma * z_mass).max(0.0),
-                    )
-                };
-                start.0 = start.0.rem_euclid(total_len);
-                if start.1 < p.mass_min {
-                    continue;
+            for first in batch.clone().step_by(SCHEDULE) {
+                let mut runners = Vec::with_capacity(SCHEDULE.min(batch.end - first));
+                for k in first..(first + SCHEDULE).min(batch.end) {
+                    if let Some((runner, s0)) = clouds.droplet(layer, k, &mut starts[k]) {
+                        stats.dirt_from_ledges += s0 as f64;
+                        runners.push(runner);
+                    }
                 }
-                let (si, u) = sources::pick(&sources, start.0);
-                let (x, y) = sources[si].point(u);
-                // [choice] Chang makes deposition proportional to droplet mass: a
-                // droplet washes dirt off its ledge in proportion to its water,
-                // S_0 = ledge_dirt * m / m_max, so small droplets leave faint runs.
-                let s0 = p.ledge_dirt * (start.1 / p.mass_max).min(1.0);
-                stats.dirt_from_ledges += s0 as f64;
-                let drop = Droplet {
-                    x,
-                    y,
-                    vx: 0.0,
-                    vy: 0.0,
-                    m: start.1,
-                    s: s0,
-                };
-                runners.push(Runner::new(k, drop, rng));
-            }
-            for r in patches::run(&mut wall, runners, &laws, progress)? {
-                let trace = r.trace;
-                stats.droplets += 1;
-                stats.droplet_steps += trace.steps as u64;
-                stats.dirt_lost += trace.dirt_lost as f64;
-                match trace.outcome {
-                    Some(End::Dried) => stats.dried += 1,
-                    Some(End::LeftRegion) => stats.left_region += 1,
-                    _ => {}
+                for r in patches::run(&mut wall, runners, &laws, BAND, progress)? {
+                    stats.count(&r);
+                    paths.push(Path {
+                        start: (r.start.0 - 1.0, r.start.1 - 1.0),
+                        end: (r.trace.end.0 - 1.0, r.trace.end.1 - 1.0),
+                        steps: r.trace.steps,
+                    });
                 }
-                paths.push(Path {
-                    start: (r.start.0 - 1.0, r.start.1 - 1.0),
-                    end: (trace.end.0 - 1.0, trace.end.1 - 1.0),
-                    steps: trace.steps,
-                });
             }
             // After the last round, the next rainfall begins in the same pass.
             let last = round + 1 == rounds;
@@ -240,7 +289,7 @@ pub fn simulate(
                 .then(|| grime_noise(&wall, p, seed, next))
                 .flatten();
             let begin = begins_next.then(|| Begin::new(p, seed, next, &wall, noise.as_ref()));
-            let output = last.then_some(&mut deposit[..]);
+            let output = last.then_some(deposit.data_mut());
             columns = diffusion_round(&mut wall, p, rounds, output, begin.as_ref());
             progress.update(
                 "rain",
@@ -266,13 +315,78 @@ pub fn simulate(
     let [water, dirt, roughness] =
         [&mut wall.carry, &mut wall.baseline, &mut wall.inside].map(std::mem::take);
     Ok(RainOutput {
-        width: input.width,
-        height: input.height,
         layers,
         water: unpad(&wall, |i| wall.w[i], water),
         dirt: unpad(&wall, |i| wall.d[i], dirt),
         roughness_y: unpad(&wall, |i| wall.roughness(i).1, roughness),
     })
+}
+
+impl LayerStats {
+    /// Counts one finished droplet.
+    fn count(&mut self, r: &Runner) {
+        self.droplets += 1;
+        self.droplet_steps += r.trace.steps as u64;
+        self.dirt_lost += r.trace.dirt_lost as f64;
+        match r.trace.outcome {
+            Some(End::Dried) => self.dried += 1,
+            Some(End::LeftRegion) => self.left_region += 1,
+            _ => {}
+        }
+    }
+}
+
+/// Where droplets come from: the sources and the draws that start them.
+struct Clouds<'a> {
+    sources: Vec<Source>,
+    /// The sources' total length.
+    total_len: f32,
+    p: &'a RainParams,
+    seed: u64,
+}
+
+impl Clouds<'_> {
+    /// Droplet `k` of rainfall `layer`, from its own random stream, with the
+    /// dirt it washed off its ledge; `None` when it is too light to run.
+    /// `start` is its (position along the sources, mass), carried from the
+    /// previous rainfall and updated.
+    fn droplet(&self, layer: u32, k: usize, start: &mut (f32, f32)) -> Option<(Runner, f32)> {
+        let p = self.p;
+        let mut rng = random::rng(self.seed, Stream::Droplet, layer as u64, k as u64);
+        *start = if layer == 0 {
+            (
+                rng.random::<f32>() * self.total_len,
+                rng.random::<f32>() * p.mass_max,
+            )
+        } else {
+            // Chang eqs. (16-17): normal steps from the previous layer's
+            // position and mass (independent draws, Box-Muller's two outputs).
+            let (z_pos, z_mass) = random::box_muller(&mut rng);
+            (
+                start.0 + p.sigma * z_pos,
+                (start.1 + p.sigma * z_mass).max(0.0),
+            )
+        };
+        start.0 = start.0.rem_euclid(self.total_len);
+        if start.1 < p.mass_min {
+            return None;
+        }
+        let (si, u) = sources::pick(&self.sources, start.0);
+        let (x, y) = self.sources[si].point(u);
+        // [choice] Chang makes deposition proportional to droplet mass: a
+        // droplet washes dirt off its ledge in proportion to its water,
+        // S_0 = ledge_dirt * m / m_max, so small droplets leave faint runs.
+        let s0 = p.ledge_dirt * (start.1 / p.mass_max).min(1.0);
+        let drop = Droplet {
+            x,
+            y,
+            vx: 0.0,
+            vy: 0.0,
+            m: start.1,
+            s: s0,
+        };
+        Some((Runner::new(k, drop, rng), s0))
+    }
 }
 
 /// Chang eq. (12)'s fresh grime I_D0 for rainfall `layer`, or `None` when
@@ -400,7 +514,7 @@ fn diffusion_round(
 /// Copies the unpadded interior of a padded (column-major) wall field into
 /// a row-major grid (reusing `out`), tile by tile so reads and writes both
 /// stay in cache.
-fn unpad(wall: &Wall, f: impl Fn(usize) -> f32 + Sync, mut out: Vec<f32>) -> Vec<f32> {
+fn unpad(wall: &Wall, f: impl Fn(usize) -> f32 + Sync, mut out: Vec<f32>) -> RowMajor<f32> {
     const TILE: usize = 32;
     let (w, h) = (wall.cols - 2, wall.rows - 2);
     out.resize(w * h, 0.0);
@@ -419,7 +533,7 @@ fn unpad(wall: &Wall, f: impl Fn(usize) -> f32 + Sync, mut out: Vec<f32>) -> Vec
                 }
             }
         });
-    out
+    RowMajor::new(w, h, out)
 }
 
 #[cfg(test)]

@@ -85,6 +85,7 @@ pub fn pick(sources: &[Source], u: f32) -> (usize, f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::field::RowMajor;
 
     #[test]
     fn line_points_lie_just_below_the_polyline() {
@@ -100,7 +101,10 @@ mod tests {
     fn top_edge_follows_the_region() {
         // 3x3 grid; column 1 starts one row lower.
         let region = [true, false, true, true, true, false, false, false, true];
-        let wall = Wall::new(3, 3, &[0.0; 9], &region);
+        let wall = Wall::new(
+            &RowMajor::filled(3, 3, 0.0),
+            &RowMajor::new(3, 3, region.to_vec()),
+        );
         assert_eq!(top_edge(&wall), vec![(1.0, 1.0), (2.0, 2.0), (3.0, 1.0)]);
     }
 

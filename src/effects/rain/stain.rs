@@ -6,53 +6,51 @@
 use rayon::prelude::*;
 
 use super::RainLayer;
+use crate::effects::percentile::{Rank, percentile};
+use crate::field::{ColumnMajor, RowMajor};
 use crate::preset::StainParams;
 
 /// D_max: the `percentile` of the first rainfall's positive deposits
 /// [choice: a high percentile rather than the maximum, so one hot pixel where
 /// a droplet dried does not wash out every other streak; later rainfalls are
 /// measured against the same D_max, so accumulated dirt reads darker].
-pub fn d_max(layers: &[RainLayer], percentile: f32) -> f32 {
-    for layer in layers {
-        let mut positive: Vec<f32> = layer.deposit.iter().copied().filter(|&d| d > 0.0).collect();
-        if positive.is_empty() {
-            continue;
-        }
-        let k = ((positive.len() - 1) as f32 * percentile.clamp(0.0, 1.0)).round() as usize;
-        let (_, v, _) = positive.select_nth_unstable_by(k, f32::total_cmp);
-        return v.max(f32::MIN_POSITIVE);
-    }
-    1.0
+pub fn d_max(layers: &[RainLayer], q: f32) -> f32 {
+    layers
+        .iter()
+        .find_map(|layer| {
+            let positive = layer.deposit.data().iter().copied().filter(|&d| d > 0.0);
+            percentile(positive, q, Rank::Nearest)
+        })
+        .map_or(1.0, |v| v.max(f32::MIN_POSITIVE))
 }
 
 /// Stain coverage for each rainfall in turn, reusing its buffers.
 #[derive(Debug)]
 pub struct Coverage {
-    width: usize,
-    height: usize,
-    columns: Vec<f32>,
-    rows: Vec<f32>,
+    columns: ColumnMajor<f32>,
+    rows: RowMajor<f32>,
 }
 
 impl Coverage {
     /// Coverage for deposits on a `width` x `height` grid.
     pub fn new(width: usize, height: usize) -> Coverage {
         Coverage {
-            width,
-            height,
-            columns: vec![0.0; width * height],
-            rows: vec![0.0; width * height],
+            columns: ColumnMajor::filled(width, height, 0.0),
+            rows: RowMajor::filled(width, height, 0.0),
         }
     }
 
-    /// Coverage in 0..1 per grid pixel, row-major, for one rainfall's
-    /// `deposit` (column-major, as in [`RainLayer::deposit`]).
-    pub fn of(&mut self, deposit: &[f32], d_max: f32, p: &StainParams) -> &[f32] {
+    /// Coverage in 0..1 per grid pixel for one rainfall's `deposit`.
+    pub fn of(
+        &mut self,
+        deposit: &ColumnMajor<f32>,
+        d_max: f32,
+        p: &StainParams,
+    ) -> &RowMajor<f32> {
         let strength = p.strength;
         let alpha = |d: f32| (strength * d / d_max).clamp(0.0, 1.0);
         blur_transposed(
             deposit,
-            (self.width, self.height),
             p.softness,
             alpha,
             &mut self.columns,
@@ -66,17 +64,18 @@ impl Coverage {
 const RUN: usize = 16;
 
 /// Separable Gaussian blur with standard deviation `sigma` (edges clamped)
-/// of `map(v)` for each value of `values`, a column-major grid of `size`
-/// (width, height), into `out` in row-major order; `tmp` is a buffer.
+/// of `map(v)` for each value of `values`, into `out` (of the same size);
+/// `tmp` (the same size too) is a buffer.
 pub fn blur_transposed(
-    values: &[f32],
-    size: (usize, usize),
+    values: &ColumnMajor<f32>,
     sigma: f32,
     map: impl Fn(f32) -> f32 + Sync,
-    tmp: &mut [f32],
-    out: &mut [f32],
+    tmp: &mut ColumnMajor<f32>,
+    out: &mut RowMajor<f32>,
 ) {
-    let (width, height) = size;
+    assert!(values.same_size(tmp) && values.same_size(out), "blur sizes");
+    let (width, height) = (values.width(), values.height());
+    let (values, tmp, out) = (values.data(), tmp.data_mut(), out.data_mut());
     if width == 0 || height == 0 {
         return;
     }
@@ -154,7 +153,7 @@ mod tests {
 
     fn layer(deposit: Vec<f32>) -> RainLayer {
         RainLayer {
-            deposit,
+            deposit: ColumnMajor::new(deposit.len(), 1, deposit),
             stats: LayerStats::default(),
             paths: vec![],
         }
@@ -177,20 +176,19 @@ mod tests {
             ..StainParams::default()
         };
         let mut cov = Coverage::new(4, 1);
-        assert_eq!(
-            cov.of(&[0.0, 1.0, 2.0, 10.0], 4.0, &p),
-            [0.0, 0.25, 0.5, 1.0]
-        );
+        let deposit = ColumnMajor::new(4, 1, vec![0.0, 1.0, 2.0, 10.0]);
+        assert_eq!(cov.of(&deposit, 4.0, &p).data(), [0.0, 0.25, 0.5, 1.0]);
     }
 
     #[test]
     fn blur_matches_a_plain_2d_convolution() {
         let (w, h, sigma) = (9, 7, 1.2f32);
         let v: Vec<f32> = (0..w * h).map(|i| ((i * 31) % 17) as f32).collect();
-        // The input column-major, the output row-major.
-        let columns: Vec<f32> = (0..w * h).map(|i| v[(i % h) * w + i / h]).collect();
-        let (mut tmp, mut got) = (vec![0.0; w * h], vec![0.0; w * h]);
-        blur_transposed(&columns, (w, h), sigma, |v| v, &mut tmp, &mut got);
+        let columns = ColumnMajor::from_fn(w, h, |x, y| v[y * w + x]);
+        let mut tmp = ColumnMajor::filled(w, h, 0.0);
+        let mut got = RowMajor::filled(w, h, 0.0);
+        blur_transposed(&columns, sigma, |v| v, &mut tmp, &mut got);
+        let got = got.data();
         let r = (3.0 * sigma).ceil() as isize;
         let g = |i: isize| (-(i * i) as f32 / (2.0 * sigma * sigma)).exp();
         let norm: f32 = (-r..=r).map(g).sum();
@@ -217,10 +215,10 @@ mod tests {
             strength: 1.0,
             ..StainParams::default()
         };
-        let mut d = vec![0.0; 21 * 21];
-        d[10 * 21 + 10] = 0.5;
+        let mut d = ColumnMajor::filled(21, 21, 0.0);
+        d.data_mut()[10 * 21 + 10] = 0.5;
         let mut cov = Coverage::new(21, 21);
-        let a = cov.of(&d, 1.0, &p);
+        let a = cov.of(&d, 1.0, &p).data();
         assert!(a[10 * 21 + 11] > 0.0, "edge is soft");
         let total: f32 = a.iter().sum();
         assert!((total - 0.5).abs() < 0.02, "{total}");

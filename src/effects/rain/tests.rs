@@ -2,18 +2,17 @@
 //! and end, and that more water runs further.
 
 use super::*;
+use crate::field::RowMajor;
 use crate::progress::Progress;
 
 /// A textured wall, `w` x `h`, whole grid is region.
-fn wall_input(w: usize, h: usize) -> (Vec<f32>, Vec<bool>) {
-    let luma = (0..w * h)
-        .map(|i| {
-            120.0
-                + 30.0 * (((i * 7919) % 13) as f32 / 13.0)
-                + 20.0 * (i / w).is_multiple_of(9) as u8 as f32
-        })
-        .collect();
-    (luma, vec![true; w * h])
+fn wall_input(w: usize, h: usize) -> (RowMajor<f32>, RowMajor<bool>) {
+    let luma = RowMajor::from_fn(w, h, |x, y| {
+        120.0
+            + 30.0 * ((((y * w + x) * 7919) % 13) as f32 / 13.0)
+            + 20.0 * y.is_multiple_of(9) as u8 as f32
+    });
+    (luma, RowMajor::filled(w, h, true))
 }
 
 fn one_layer() -> RainParams {
@@ -29,8 +28,6 @@ fn one_layer() -> RainParams {
 fn dirt_is_conserved_between_droplets_and_wall() {
     let (luma, region) = wall_input(64, 96);
     let input = RainInput {
-        width: 64,
-        height: 96,
         luma: &luma,
         region: &region,
         source_lines: vec![],
@@ -42,7 +39,7 @@ fn dirt_is_conserved_between_droplets_and_wall() {
     };
     let out = simulate(&input, &p, 3, &Progress::none()).unwrap();
     let s = &out.layers[0].stats;
-    let on_wall: f64 = out.dirt.iter().map(|&d| d as f64).sum();
+    let on_wall: f64 = out.dirt.data().iter().map(|&d| d as f64).sum();
     assert!(s.dirt_from_ledges > 1.0);
     let err = (on_wall + s.dirt_lost - s.dirt_from_ledges).abs();
     assert!(
@@ -58,8 +55,6 @@ fn droplets_start_on_the_source_line_and_end_lower() {
     let (luma, region) = wall_input(80, 120);
     let line = vec![(10.0, 30.0), (70.0, 30.0)];
     let input = RainInput {
-        width: 80,
-        height: 120,
         luma: &luma,
         region: &region,
         source_lines: vec![line],
@@ -90,10 +85,13 @@ fn droplets_start_on_the_source_line_and_end_lower() {
     let reach = (p.diffusion_rounds * p.diffusion_iterations) as usize;
     let deposit = &out.layers[0].deposit;
     let above: f32 = (0..80)
-        .map(|x| deposit[x * 120..x * 120 + 30 - reach].iter().sum::<f32>())
+        .flat_map(|x| (0..30 - reach).map(move |y| deposit.get(x, y)))
         .sum();
     assert_eq!(above, 0.0);
-    assert!(deposit.iter().sum::<f32>() > 0.0, "but there is dirt below");
+    assert!(
+        deposit.data().iter().sum::<f32>() > 0.0,
+        "but there is dirt below"
+    );
 }
 
 #[test]
@@ -102,8 +100,6 @@ fn heavier_droplets_run_further() {
     // the wall is tall enough that neither kind reaches the bottom.
     let (luma, region) = wall_input(64, 2000);
     let input = RainInput {
-        width: 64,
-        height: 2000,
         luma: &luma,
         region: &region,
         source_lines: vec![],
@@ -138,8 +134,6 @@ fn cancel_stops_mid_layer() {
     use std::sync::atomic::AtomicBool;
     let (luma, region) = wall_input(64, 64);
     let input = RainInput {
-        width: 64,
-        height: 64,
         luma: &luma,
         region: &region,
         source_lines: vec![],
@@ -160,8 +154,6 @@ fn deposits_raise_streak_channels_but_keep_the_wall_rough() {
     // where dirt was deposited does it rise.
     let (luma, region) = wall_input(96, 128);
     let input = RainInput {
-        width: 96,
-        height: 128,
         luma: &luma,
         region: &region,
         source_lines: vec![],
@@ -173,8 +165,8 @@ fn deposits_raise_streak_channels_but_keep_the_wall_rough() {
         ..RainParams::default()
     };
     let out = simulate(&input, &p, 11, &Progress::none()).unwrap();
-    let rough =
-        out.roughness_y.iter().filter(|&&m| m > 0.0).count() as f32 / out.roughness_y.len() as f32;
+    let m_y = out.roughness_y.data();
+    let rough = m_y.iter().filter(|&&m| m > 0.0).count() as f32 / m_y.len() as f32;
     assert!(
         rough > 0.5,
         "only {:.0}% of the wall is still rough",
@@ -188,8 +180,6 @@ fn the_same_rain_at_any_thread_count() {
     // different threads and some cross patch borders.
     let (luma, region) = wall_input(700, 90);
     let input = RainInput {
-        width: 700,
-        height: 90,
         luma: &luma,
         region: &region,
         source_lines: vec![],
@@ -218,4 +208,72 @@ fn the_same_rain_at_any_thread_count() {
         assert_eq!(one.water, many.water, "{threads} threads");
         assert_eq!(one.dirt, many.dirt, "{threads} threads");
     }
+}
+
+#[test]
+fn an_in_range_preset_that_asks_too_much_is_refused_before_it_starts() {
+    // Issue 13: every value is in range, but 100000 droplets per grid column
+    // make 4e8 droplet runs on this grid.
+    let (luma, region) = wall_input(400, 300);
+    let input = RainInput {
+        luma: &luma,
+        region: &region,
+        source_lines: vec![],
+    };
+    let p = RainParams {
+        droplets: 100_000,
+        reference_width: 1,
+        ..RainParams::default()
+    };
+    let cost = Cost::of(&p, 400, 300);
+    assert_eq!(cost.runs, 12 * 40_000_000);
+    assert!(cost.steps > MAX_STEPS && cost.bytes > MAX_BYTES);
+    let e = simulate(&input, &p, 1, &Progress::none()).unwrap_err();
+    let Error::TooMuchWork { fix, .. } = &e else {
+        panic!("{e}");
+    };
+    assert!(fix.contains("rain.droplets") && fix.contains("rain.reference_width"));
+    // Far more than the default fits.
+    let default = Cost::of(&RainParams::default(), 1024, 1024);
+    assert!(default.steps * 100 < MAX_STEPS && default.bytes * 50 < MAX_BYTES);
+    assert!(default.check().is_ok());
+    // So does a memory bound alone: many rainfalls on a huge grid.
+    let layers = RainParams {
+        layers: 200,
+        droplets: 1,
+        ..RainParams::default()
+    };
+    let e = Cost::of(&layers, 8000, 8000).check().unwrap_err();
+    assert!(e.to_string().contains("memory"), "{e}");
+}
+
+#[test]
+fn droplets_in_several_schedules_are_the_same_at_any_thread_count() {
+    // More droplets than one schedule holds: they run SCHEDULE at a time.
+    let (luma, region) = wall_input(300, 12);
+    let input = RainInput {
+        luma: &luma,
+        region: &region,
+        source_lines: vec![],
+    };
+    let p = RainParams {
+        layers: 1,
+        droplets: SCHEDULE as u32 + 5000,
+        reference_width: 0,
+        max_steps: 40,
+        ..RainParams::default()
+    };
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| simulate(&input, &p, 4, &Progress::none()).unwrap())
+    };
+    let (one, two) = (run(1), run(2));
+    let stats = &one.layers[0].stats;
+    assert!(stats.droplets as usize > SCHEDULE, "{}", stats.droplets);
+    assert_eq!(one.layers[0].paths.len(), stats.droplets as usize);
+    assert_eq!(one.layers[0].deposit, two.layers[0].deposit);
+    assert_eq!(one.dirt, two.dirt);
 }

@@ -16,7 +16,8 @@
 
 use rayon::prelude::*;
 
-use super::droplets::Patch;
+use crate::effects::roughness;
+use crate::field::RowMajor;
 
 /// Wall state on the padded simulation grid.
 #[derive(Debug, Clone)]
@@ -69,10 +70,30 @@ pub struct Column<'a> {
     pub output: &'a mut [f32],
 }
 
+/// The columns of the wall one droplet queue may touch: water `w` and dirt
+/// `d` for storage indices `first..first + w.len()`, and the height field
+/// and region of the whole wall.
+pub struct Patch<'a> {
+    /// Height field B of the whole padded wall, column-major.
+    pub b: &'a [f32],
+    /// 1 inside the region, per padded pixel.
+    pub inside: &'a [f32],
+    /// Padded rows: the index step from one column to the next.
+    pub rows: usize,
+    /// Storage index of the patch's first pixel.
+    pub first: usize,
+    /// Water w of the patch's columns.
+    pub w: &'a mut [f32],
+    /// Dirt D of the patch's columns.
+    pub d: &'a mut [f32],
+}
+
 impl Wall {
-    /// A dry, clean wall of `width` x `height` grid pixels.
-    /// `luma` and `region` are row-major, unpadded.
-    pub fn new(width: usize, height: usize, luma: &[f32], region: &[bool]) -> Wall {
+    /// A dry, clean wall on the grid of `luma` and `region` (the same size).
+    pub fn new(luma: &RowMajor<f32>, region: &RowMajor<bool>) -> Wall {
+        debug_assert!(luma.same_size(region));
+        let (width, height) = (luma.width(), luma.height());
+        let (luma, region) = (luma.data(), region.data());
         let cols = width + 2;
         let rows = height + 2;
         let n = cols * rows;
@@ -138,7 +159,7 @@ impl Wall {
     /// Roughness (M_x, M_y) at padded pixel index `i` (Chang eq. 1).
     #[inline]
     pub fn roughness(&self, i: usize) -> (f32, f32) {
-        roughness(&self.b, self.rows, i)
+        roughness::at(&self.b, i, self.rows, 1)
     }
 
     /// The wall cut at padded columns `bounds` (ascending, from 0 to
@@ -362,17 +383,6 @@ fn output_columns(
     }
 }
 
-/// Roughness (M_x, M_y) at index `i` of a padded, column-major height field
-/// `b` with `rows` rows (Chang eq. 1).
-#[inline(always)]
-pub fn roughness(b: &[f32], rows: usize, i: usize) -> (f32, f32) {
-    // Chang eq. (1): M_x = |B(x,y) - (B(x+1,y) + B(x-1,y))/2| / 255
-    let mx = (b[i] - 0.5 * (b[i + rows] + b[i - rows])).abs() / 255.0;
-    // Chang eq. (1): M_y = |B(x,y) - B(x,y+1)| / 255
-    let my = (b[i] - b[i + 1]).abs() / 255.0;
-    (mx, my)
-}
-
 /// The 8-neighbourhood.
 pub const NEIGHBOURS: [(isize, isize); 8] = [
     (-1, -1),
@@ -506,7 +516,10 @@ mod tests {
     use proptest::prelude::*;
 
     fn wall(width: usize, height: usize, region: &[bool]) -> Wall {
-        Wall::new(width, height, &vec![128.0; width * height], region)
+        Wall::new(
+            &RowMajor::filled(width, height, 128.0),
+            &RowMajor::new(width, height, region.to_vec()),
+        )
     }
 
     /// Slow, obvious eqs. (9-10): every pixel sends tau*w to each region neighbour.
@@ -604,9 +617,9 @@ mod tests {
     }
 
     #[test]
-    fn roughness_matches_eq1() {
-        let luma = [10.0, 20.0, 60.0, 10.0, 30.0, 70.0];
-        let wl = Wall::new(3, 2, &luma, &[true; 6]);
+    fn roughness_is_eq1_with_the_edge_clamped_by_the_padding() {
+        let luma = RowMajor::new(3, 2, vec![10.0, 20.0, 60.0, 10.0, 30.0, 70.0]);
+        let wl = Wall::new(&luma, &RowMajor::filled(3, 2, true));
         let (mx, my) = wl.roughness(wl.idx(2, 1));
         assert!((mx - (20.0f32 - 35.0).abs() / 255.0).abs() < 1e-6);
         assert!((my - 10.0 / 255.0).abs() < 1e-6);
