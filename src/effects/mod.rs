@@ -24,6 +24,7 @@
 //! PARAMS rows). README "How to add an effect" walks through it.
 
 pub mod dust;
+pub mod gammaton;
 pub mod moss;
 pub mod patches;
 pub mod percentile;
@@ -58,11 +59,14 @@ pub enum Effect {
     Moss,
     /// Dust film and granules (Santos & Baranoski).
     Dust,
+    /// γ-tons (Chen et al., Stadler): substances carried over the wall,
+    /// one layer per substance.
+    Gammaton,
 }
 
 impl Effect {
     /// Every effect, in the order the pipeline runs them.
-    pub const ALL: [Effect; 3] = [Effect::Rain, Effect::Moss, Effect::Dust];
+    pub const ALL: [Effect; 4] = [Effect::Rain, Effect::Moss, Effect::Dust, Effect::Gammaton];
 
     /// Its name in reports and timings.
     pub fn name(self) -> &'static str {
@@ -70,6 +74,7 @@ impl Effect {
             Effect::Rain => "rain",
             Effect::Moss => "moss",
             Effect::Dust => "dust",
+            Effect::Gammaton => "gammaton",
         }
     }
 
@@ -80,6 +85,7 @@ impl Effect {
             Effect::Rain => true,
             Effect::Moss => preset.moss.enabled,
             Effect::Dust => preset.dust.enabled,
+            Effect::Gammaton => preset.gammaton.enabled,
         }
     }
 
@@ -90,13 +96,14 @@ impl Effect {
             Effect::Rain => 0.79,
             Effect::Moss => 0.105,
             Effect::Dust => 0.105,
+            Effect::Gammaton => 0.3,
         }
     }
 
     /// The effects whose products it reads.
     pub fn inputs(self) -> &'static [Effect] {
         match self {
-            Effect::Rain | Effect::Dust => &[],
+            Effect::Rain | Effect::Dust | Effect::Gammaton => &[],
             Effect::Moss => &[Effect::Rain],
         }
     }
@@ -108,6 +115,8 @@ impl Effect {
             Effect::Rain => &["seed", "sim", "rain", "stain"],
             Effect::Moss => &["seed", "sim", "moss", "stain.percentile"],
             Effect::Dust => &["seed", "dust"],
+            // Line sources default to the rain's ledges.
+            Effect::Gammaton => &["seed", "sim", "gammaton", "rain.source_lines"],
         }
     }
 
@@ -128,7 +137,7 @@ impl Effect {
                 "rain.layers" => new.rain.layers <= old.rain.layers && !read_by_enabled(self),
                 _ => false,
             },
-            Effect::Moss | Effect::Dust => false,
+            Effect::Moss | Effect::Dust | Effect::Gammaton => false,
         }
     }
 
@@ -138,7 +147,7 @@ impl Effect {
     pub fn restyle(self, layer: &mut Layer, index: usize, preset: &Preset) {
         match self {
             Effect::Rain => stages::restyle_rain(layer, index, preset),
-            Effect::Moss | Effect::Dust => {}
+            Effect::Moss | Effect::Dust | Effect::Gammaton => {}
         }
     }
 
@@ -157,6 +166,7 @@ impl Effect {
             Effect::Rain => stages::rain(ctx, products, preset, progress),
             Effect::Moss => stages::moss(ctx, products, preset, progress),
             Effect::Dust => stages::dust(ctx, preset, progress),
+            Effect::Gammaton => gammaton::stage(ctx, products, preset, progress),
         }
     }
 }
@@ -212,6 +222,8 @@ pub enum Stats {
     Moss(moss::MossStats),
     /// Particles per component, coverage.
     Dust(dust::DustStats),
+    /// γ-tons emitted, settled, left; each substance's balance.
+    Gammaton(gammaton::GammaStats),
 }
 
 /// The effects whose output made with `old` is stale for `new`: those with

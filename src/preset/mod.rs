@@ -7,9 +7,13 @@
 //! its slider ranges and tooltips, so the three cannot drift apart.
 
 mod diff;
+mod gammaton;
 mod params;
 
 pub use diff::diff_paths;
+pub use gammaton::{
+    GammaSource, GammatonParams, MAX_SUBSTANCES, Rule, RuleKind, SourceKind, Stop, Substance,
+};
 pub use params::{PARAMS, ParamSpec, param};
 
 use serde::{Deserialize, Serialize};
@@ -32,6 +36,8 @@ pub struct Preset {
     pub moss: MossParams,
     /// Dust settling over days (Santos & Baranoski eqs. 1-11).
     pub dust: DustParams,
+    /// γ-tons: substances carried over the wall (Chen et al., Stadler).
+    pub gammaton: GammatonParams,
 }
 
 impl Default for Preset {
@@ -43,6 +49,7 @@ impl Default for Preset {
             stain: StainParams::default(),
             moss: MossParams::default(),
             dust: DustParams::default(),
+            gammaton: GammatonParams::default(),
         }
     }
 }
@@ -484,7 +491,8 @@ impl Preset {
                 range: format!("below rain.mass_max ({})", self.rain.mass_max),
             });
         }
-        self.validate_dust()
+        self.validate_dust()?;
+        self.gammaton.validate()
     }
 
     fn validate_dust(&self) -> Result<()> {
@@ -657,6 +665,15 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ),
     ("light-rain", "4 rainfalls, a recently weathered wall"),
     ("heavy-rain", "20 rainfalls, wetter and dirtier"),
+    (
+        "rust-runs",
+        "gamma-tons: orange-brown rust runs below the ledges and fixings",
+    ),
+    (
+        "salt-bloom",
+        "gamma-tons: white efflorescence where water evaporates near the ground",
+    ),
+    ("splash", "gamma-tons: dirt thrown up the foot of the wall"),
 ];
 
 /// Returns a built-in preset by name.
@@ -682,6 +699,7 @@ pub fn builtin(name: &str) -> Result<Preset> {
             p.rain.ledge_dirt = 4.0;
             p.rain.mass_max = 160.0;
         }
+        "rust-runs" | "salt-bloom" | "splash" => p.gammaton = gammaton::builtin(name),
         _ => {
             let names: Vec<_> = BUILTIN.iter().map(|(n, _)| *n).collect();
             return Err(Error::Preset(format!(

@@ -1,0 +1,193 @@
+use super::particle::{deteriorate, exchange};
+use super::*;
+use crate::preset::{GammaSource, Rule, RuleKind, Stop, Substance};
+
+fn wall(w: usize, h: usize) -> (RowMajor<f32>, RowMajor<bool>) {
+    // A rough wall: luminance varies, so flow wanders.
+    let luma = RowMajor::from_fn(w, h, |x, y| ((x * 7 + y * 13) % 50) as f32 + 100.0);
+    (luma, RowMajor::filled(w, h, true))
+}
+
+fn substance(name: &str, absorb: f32, deposit: f32, initial: f32) -> Substance {
+    Substance {
+        name: name.into(),
+        absorb,
+        deposit,
+        initial,
+        scale: 1.0,
+        stops: vec![Stop::new(0.0, [0; 3], 0.0), Stop::new(1.0, [200, 80, 20], 1.0)],
+    }
+}
+
+fn params(consistent: bool) -> GammatonParams {
+    GammatonParams {
+        enabled: true,
+        particles: 3000,
+        consistent,
+        sources: vec![
+            GammaSource {
+                kind: SourceKind::Sky,
+                share: 2.0,
+                points: Vec::new(),
+                carries: vec![1.0, 0.0],
+            },
+            GammaSource {
+                kind: SourceKind::Ground,
+                share: 1.0,
+                points: Vec::new(),
+                carries: vec![0.5, 0.2],
+            },
+        ],
+        substances: vec![substance("water", 0.3, 0.5, 0.0), substance("salt", 0.2, 1.0, 0.4)],
+        ..GammatonParams::default()
+    }
+}
+
+fn run(p: &GammatonParams) -> Outcome {
+    let (luma, region) = wall(200, 120);
+    simulate(&luma, &region, &[], p, 9, &Progress::none()).unwrap()
+}
+
+/// initial + emitted = on the wall + lost, per substance (no rules).
+fn assert_conserved(out: &Outcome) {
+    for s in &out.stats.substances {
+        let before = s.initial + s.emitted;
+        let after = s.on_wall + s.lost;
+        assert!(
+            (before - after).abs() <= 1e-3 * before.max(1.0),
+            "{}: {before} in, {after} accounted for",
+            s.name
+        );
+    }
+}
+
+#[test]
+fn transport_conserves_every_substance_in_both_modes() {
+    for consistent in [false, true] {
+        let out = run(&params(consistent));
+        assert_conserved(&out);
+        assert_eq!(out.stats.emitted, 3000);
+        assert!(out.stats.contacts > 3000, "every γ-ton touched the wall at least once");
+        let salt = &out.stats.substances[1];
+        assert!(salt.on_wall > 0.0 && salt.lost > 0.0, "{salt:?}");
+    }
+}
+
+#[test]
+fn deterioration_follows_eq_3_21() {
+    // The thesis's example of eq. 3.20's unsoundness, made sound by 3.21.
+    let [ps, pp, pf] = deteriorate([0.0, 0.8, 0.2], [1.0, 0.1, 0.1]);
+    assert_eq!(ps, 0.0);
+    assert!((pp - 0.7).abs() < 1e-6);
+    assert!((pf - 0.3).abs() < 1e-6, "capped at 1 - p_s' - p_p', got {pf}");
+    // Plain case: p_f' = p_f + p_p' - Δ_f.
+    let [ps, pp, pf] = deteriorate([0.3, 0.3, 0.2], [0.1, 0.1, 0.3]);
+    assert!((ps - 0.2).abs() < 1e-6 && (pp - 0.2).abs() < 1e-6);
+    assert!((pf - 0.1).abs() < 1e-6);
+    // Probabilities only shrink to a settle: repeated hits end in zero.
+    let mut p = [0.4, 0.3, 0.3];
+    for _ in 0..50 {
+        p = deteriorate(p, [0.1, 0.05, 0.05]);
+    }
+    assert_eq!(p, [0.0, 0.0, 0.0]);
+}
+
+#[test]
+fn exchange_matches_the_transport_equations() {
+    let cells = [0, 1];
+    // Classic stop, eq. 3.23-3.24: absorb a c_j / n from each.
+    let mut map = [2.0, 4.0];
+    let (s, b) = exchange(1.0, &mut map, &cells, (0.5, 1.0), false, false);
+    assert_eq!(map, [1.5, 3.0]);
+    assert_eq!((s, b), (2.5, 0.0));
+    // Classic settle, eq. 3.25: each gets k s / n; with k < 1 the rest is lost.
+    let mut map = [0.0, 0.0];
+    let (s, b) = exchange(2.0, &mut map, &cells, (0.5, 0.5), false, true);
+    assert_eq!(map, [0.5, 0.5]);
+    assert_eq!((s, b), (0.0, 1.0));
+    // Consistent, d = k - a >= 0: the γ-ton gives d s in all.
+    let mut map = [1.0, 1.0];
+    let (s, _) = exchange(2.0, &mut map, &cells, (0.25, 0.75), true, false);
+    assert_eq!(map, [1.5, 1.5]);
+    assert_eq!(s, 1.0);
+    // Consistent, d < 0: each cell gives -d c_j.
+    let mut map = [1.0, 3.0];
+    let (s, _) = exchange(0.0, &mut map, &cells, (0.75, 0.25), true, false);
+    assert_eq!(map, [0.5, 1.5]);
+    assert_eq!(s, 2.0);
+    // Negative absorption gives at most what the γ-ton holds.
+    let mut map = [4.0, 4.0];
+    let (s, _) = exchange(1.0, &mut map, &cells, (-1.0, 1.0), false, false);
+    assert_eq!(s, 0.0);
+    assert_eq!(map, [4.5, 4.5]);
+}
+
+#[test]
+fn rules_match_plain_references() {
+    let mut p = params(true);
+    p.rules = vec![
+        Rule {
+            kind: RuleKind::Transfer,
+            from: "water".into(),
+            to: "salt".into(),
+            rate: 0.25,
+            only_where: String::new(),
+        },
+        Rule {
+            kind: RuleKind::Deteriorate,
+            from: "water".into(),
+            to: String::new(),
+            rate: -0.5,
+            only_where: "salt".into(),
+        },
+    ];
+    let water = vec![4.0, 8.0, 0.0];
+    let salt = vec![0.0, 1.0, 0.0];
+    let mut maps = vec![water.clone(), salt.clone()];
+    rules::apply(&mut maps, &p);
+    // Transfer (eq. 3.28): water 3, 6, 0; salt 1, 3, 0. Then deteriorate
+    // (eq. 3.29) where salt > 0: water 1.5, 3, 0.
+    assert_eq!(maps[0], vec![1.5, 3.0, 0.0]);
+    assert_eq!(maps[1], vec![1.0, 3.0, 0.0]);
+}
+
+#[test]
+fn settle_only_gammatons_leave_everything_where_they_stop() {
+    let mut p = params(false);
+    (p.p_straight, p.p_parabolic, p.p_flow) = (0.0, 0.0, 0.0);
+    p.radius = 0.0;
+    p.sources.truncate(1);
+    p.substances[1].initial = 0.0;
+    p.substances[0].deposit = 1.0;
+    let out = run(&p);
+    assert_eq!(out.stats.left, 0);
+    assert_eq!(out.stats.contacts, out.stats.emitted, "one contact each");
+    let water = &out.stats.substances[0];
+    assert!((water.on_wall - water.emitted).abs() < 1e-2, "{water:?}");
+    assert!(water.lost.abs() < 1e-6);
+    // Each γ-ton carried 1: every wetted pixel holds a whole number of them.
+    assert!(out.maps[0].data().iter().all(|&v| (v - v.round()).abs() < 1e-4));
+}
+
+#[test]
+fn same_result_at_one_two_and_three_threads() {
+    let p = params(true);
+    let runs: Vec<Vec<Vec<f32>>> = [1, 2, 3]
+        .into_iter()
+        .map(|n| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap();
+            pool.install(|| run(&p).maps.into_iter().map(|m| m.into_data()).collect())
+        })
+        .collect();
+    assert_eq!(runs[0], runs[1]);
+    assert_eq!(runs[0], runs[2]);
+}
+
+#[test]
+fn stops_interpolate_and_clamp() {
+    let stops = [Stop::new(0.2, [0, 0, 0], 0.0), Stop::new(0.6, [200, 100, 0], 1.0)];
+    assert_eq!(rules::sample(&stops, 0.0), ([0.0; 3], 0.0));
+    let (c, a) = rules::sample(&stops, 0.4);
+    assert!((c[0] - 100.0).abs() < 1e-3 && (c[1] - 50.0).abs() < 1e-3 && (a - 0.5).abs() < 1e-6);
+    assert_eq!(rules::sample(&stops, 1.0), ([200.0, 100.0, 0.0], 1.0));
+}

@@ -1,0 +1,379 @@
+//! γ-ton parameters (Chen et al. 2005 as Stadler implements them in
+//! `aitios`, thesis ch. 3), on the image plane: sources, substances,
+//! motion, transport and ageing rules.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+
+/// Most substances one simulation carries.
+pub const MAX_SUBSTANCES: usize = 4;
+
+/// γ-tons: particles that carry substances from sources over the wall.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GammatonParams {
+    /// Run the γ-tons.
+    pub enabled: bool,
+    /// γ-tons emitted per iteration, over all sources.
+    pub particles: u32,
+    /// Iterations: emit and trace, then apply the ageing rules.
+    pub iterations: u32,
+    /// Most contacts one γ-ton makes before it settles (the tracing cap).
+    pub max_depth: u32,
+    /// Interaction radius r, in grid pixels (thesis eq. 3.19).
+    pub radius: f32,
+    /// Initial probability of straight motion p_s.
+    pub p_straight: f32,
+    /// Initial probability of parabolic motion p_p.
+    pub p_parabolic: f32,
+    /// Initial probability of flow p_f (settling takes the rest, eq. 3.9).
+    pub p_flow: f32,
+    /// Deterioration of p_s per contact, Δ_s (eq. 3.21).
+    pub d_straight: f32,
+    /// Deterioration of p_p per contact, Δ_p.
+    pub d_parabolic: f32,
+    /// Deterioration of p_f per contact, Δ_f.
+    pub d_flow: f32,
+    /// Length of a straight or parabolic hop, grid pixels.
+    pub hop: f32,
+    /// Length of one flow segment between contacts, grid pixels.
+    pub flow_step: f32,
+    /// Sideways wander of flowing γ-tons, 0 = straight down the slope.
+    pub wander: f32,
+    /// Consistent transport (exchange at every contact, eqs. 3.26-3.27)
+    /// instead of classic (absorb at stops, deposit on settling, 3.23-3.25).
+    pub consistent: bool,
+    /// Where γ-tons come from.
+    pub sources: Vec<GammaSource>,
+    /// What they carry; at most [`MAX_SUBSTANCES`].
+    pub substances: Vec<Substance>,
+    /// Ageing rules applied after each iteration, in order.
+    pub rules: Vec<Rule>,
+}
+
+impl Default for GammatonParams {
+    fn default() -> Self {
+        GammatonParams {
+            enabled: false,
+            particles: 200_000,
+            iterations: 1,
+            max_depth: 48,
+            radius: 1.0,
+            p_straight: 0.1,
+            p_parabolic: 0.1,
+            p_flow: 0.75,
+            d_straight: 0.1,
+            d_parabolic: 0.05,
+            d_flow: 0.02,
+            hop: 6.0,
+            flow_step: 2.0,
+            wander: 0.3,
+            consistent: true,
+            sources: vec![GammaSource {
+                kind: SourceKind::Sky,
+                share: 1.0,
+                points: Vec::new(),
+                carries: vec![1.0],
+            }],
+            substances: vec![Substance {
+                name: "dirt".into(),
+                absorb: 0.05,
+                deposit: 0.2,
+                initial: 0.0,
+                scale: 4.0,
+                stops: vec![
+                    Stop::new(0.0, [60, 52, 44], 0.0),
+                    Stop::new(1.0, [60, 52, 44], 0.6),
+                ],
+            }],
+            rules: Vec::new(),
+        }
+    }
+}
+
+/// Where a source emits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SourceKind {
+    /// Rain from the sky: first contact anywhere on the wall, then down.
+    Sky,
+    /// Splash from the ground: thrown up the foot of the wall.
+    Ground,
+    /// A point or polyline (a rusty fixing, a railing), photo pixels.
+    Line,
+}
+
+/// One source of γ-tons.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GammaSource {
+    /// Where it emits.
+    pub kind: SourceKind,
+    /// Its share of the particles (shares are normalised).
+    #[serde(default = "one")]
+    pub share: f32,
+    /// For `line`: the points, `[x, y]` in photo pixels (one point is a
+    /// point source).
+    #[serde(default)]
+    pub points: Vec<[f32; 2]>,
+    /// What each γ-ton starts with, per substance in `substances` order.
+    #[serde(default)]
+    pub carries: Vec<f32>,
+}
+
+fn one() -> f32 {
+    1.0
+}
+
+/// One substance: a map on the grid, and a layer.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Substance {
+    /// Its name, which is also the layer's.
+    pub name: String,
+    /// Absorption rate a of the γ-tons (eqs. 3.23, 3.26).
+    #[serde(default)]
+    pub absorb: f32,
+    /// Deposition rate k of the wall (eqs. 3.25, 3.26).
+    #[serde(default = "one")]
+    pub deposit: f32,
+    /// Concentration on the wall before the first iteration.
+    #[serde(default)]
+    pub initial: f32,
+    /// The concentration the last blend stop stands for.
+    #[serde(default = "one")]
+    pub scale: f32,
+    /// Blend stops: concentration (0..1 of `scale`) to colour and opacity,
+    /// interpolated linearly.
+    pub stops: Vec<Stop>,
+}
+
+/// A blend stop.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Stop {
+    /// Concentration, 0..1 of the substance's `scale`.
+    pub value: f32,
+    /// Colour, sRGB.
+    pub color: [u8; 3],
+    /// Opacity, 0..1.
+    pub opacity: f32,
+}
+
+impl Stop {
+    /// A stop at `value` of `color` and `opacity`.
+    pub fn new(value: f32, color: [u8; 3], opacity: f32) -> Stop {
+        Stop {
+            value,
+            color,
+            opacity,
+        }
+    }
+}
+
+/// An ageing rule (thesis eqs. 3.28-3.29).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Rule {
+    /// Transfer or deteriorate.
+    pub kind: RuleKind,
+    /// The substance it takes from.
+    pub from: String,
+    /// For `transfer`: the substance it gives to.
+    #[serde(default)]
+    pub to: String,
+    /// Rate k: transfer moves `k c_i`; deteriorate scales by `1 + k`.
+    pub rate: f32,
+    /// Apply only where this substance is present (> 0): a material mask
+    /// made by the simulation (e.g. iron where a fixing sits); "" = everywhere.
+    #[serde(default)]
+    pub only_where: String,
+}
+
+/// What an ageing rule does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RuleKind {
+    /// `c_i -= k c_i; c_j += k c_i` (water plus iron to rust).
+    Transfer,
+    /// `c_i *= 1 + k` (evaporation with k < 0).
+    Deteriorate,
+}
+
+impl GammatonParams {
+    /// The index of substance `name`.
+    pub fn substance(&self, name: &str) -> Option<usize> {
+        self.substances.iter().position(|s| s.name == name)
+    }
+
+    /// Checks what the PARAMS table cannot: counts, names, stops, sources.
+    ///
+    /// # Errors
+    /// [`Error::OutOfRange`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field: String, value: String, range: &str| Error::OutOfRange {
+            field,
+            value,
+            range: range.into(),
+        };
+        let n = self.substances.len();
+        if n == 0 || n > MAX_SUBSTANCES {
+            return Err(bad(
+                "gammaton.substances".into(),
+                n.to_string(),
+                "1 ..= 4 substances",
+            ));
+        }
+        if self.p_straight + self.p_parabolic + self.p_flow > 1.0 {
+            return Err(bad(
+                "gammaton.p_flow".into(),
+                self.p_flow.to_string(),
+                "p_straight + p_parabolic + p_flow <= 1 (eq. 3.8)",
+            ));
+        }
+        for (i, s) in self.substances.iter().enumerate() {
+            let field = |f: &str| format!("gammaton.substances[{i}].{f}");
+            if s.name.is_empty() || self.substance(&s.name) != Some(i) {
+                return Err(bad(field("name"), format!("{:?}", s.name), "a unique, non-empty name"));
+            }
+            let sorted = s.stops.windows(2).all(|w| w[0].value <= w[1].value);
+            if s.stops.is_empty() || !sorted || s.stops.iter().any(|t| !(0.0..=1.0).contains(&t.opacity)) {
+                return Err(bad(field("stops"), format!("{:?}", s.stops), "at least one stop, values ascending, opacity 0 ..= 1"));
+            }
+        }
+        if self.sources.is_empty() {
+            return Err(bad("gammaton.sources".into(), "[]".into(), "at least one source"));
+        }
+        for (i, s) in self.sources.iter().enumerate() {
+            let field = |f: &str| format!("gammaton.sources[{i}].{f}");
+            if s.carries.len() > n || s.carries.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
+                return Err(bad(field("carries"), format!("{:?}", s.carries), "one amount >= 0 per substance, at most one per substance"));
+            }
+            if s.points.iter().flatten().any(|c| !c.is_finite()) {
+                return Err(bad(field("points"), format!("{:?}", s.points), "finite [x, y] points (none: a line source uses rain.source_lines)"));
+            }
+        }
+        for (i, r) in self.rules.iter().enumerate() {
+            let field = |f: &str| format!("gammaton.rules[{i}].{f}");
+            let known = |name: &str| self.substance(name).is_some();
+            if !known(&r.from) {
+                return Err(bad(field("from"), format!("{:?}", r.from), "the name of a substance"));
+            }
+            if r.kind == RuleKind::Transfer && !known(&r.to) {
+                return Err(bad(field("to"), format!("{:?}", r.to), "the name of a substance"));
+            }
+            if !r.only_where.is_empty() && !known(&r.only_where) {
+                return Err(bad(field("only_where"), format!("{:?}", r.only_where), "the name of a substance, or \"\""));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The γ-ton part of the built-in presets `rust-runs`, `salt-bloom` and
+/// `splash` (anything else: the defaults).
+pub fn builtin(name: &str) -> GammatonParams {
+    let source = |kind, carries: Vec<f32>| GammaSource {
+        kind,
+        share: 1.0,
+        points: Vec::new(),
+        carries,
+    };
+    let fade = |color: [u8; 3], opacity: f32| vec![Stop::new(0.0, color, 0.0), Stop::new(1.0, color, opacity)];
+    let d = GammatonParams::default();
+    match name {
+        // Dissolved iron from the ledges' fixings and railings (line
+        // sources default to the rain's ledges), running down and leaving
+        // a little at every contact (consistent transport).
+        "rust-runs" => GammatonParams {
+            enabled: true,
+            particles: 60_000,
+            max_depth: 160,
+            p_straight: 0.0,
+            p_parabolic: 0.02,
+            p_flow: 0.97,
+            d_straight: 0.0,
+            d_parabolic: 0.01,
+            d_flow: 0.004,
+            flow_step: 2.0,
+            wander: 0.12,
+            sources: vec![source(SourceKind::Line, vec![1.0])],
+            substances: vec![Substance {
+                name: "rust".into(),
+                absorb: 0.0,
+                deposit: 0.04,
+                initial: 0.0,
+                scale: 0.6,
+                stops: vec![
+                    Stop::new(0.0, [150, 80, 35], 0.0),
+                    Stop::new(0.4, [150, 80, 35], 0.35),
+                    Stop::new(1.0, [105, 50, 25], 0.75),
+                ],
+            }],
+            ..d
+        },
+        // Rain water dissolves the salts in the wall and leaves them where
+        // it settles and dries, low on the wall (classic transport).
+        "salt-bloom" => GammatonParams {
+            enabled: true,
+            particles: 150_000,
+            iterations: 2,
+            max_depth: 80,
+            p_straight: 0.0,
+            p_parabolic: 0.0,
+            p_flow: 0.98,
+            d_flow: 0.012,
+            consistent: false,
+            radius: 1.0,
+            sources: vec![source(SourceKind::Sky, vec![1.0, 0.0])],
+            substances: vec![
+                Substance {
+                    name: "water".into(),
+                    absorb: 0.0,
+                    deposit: 1.0,
+                    initial: 0.0,
+                    scale: 20.0,
+                    stops: fade([90, 90, 95], 0.0),
+                },
+                Substance {
+                    name: "salt".into(),
+                    absorb: 0.15,
+                    deposit: 1.0,
+                    initial: 0.05,
+                    scale: 1.5,
+                    stops: fade([236, 234, 226], 0.8),
+                },
+            ],
+            rules: vec![Rule {
+                kind: RuleKind::Deteriorate,
+                from: "water".into(),
+                to: String::new(),
+                rate: -0.8,
+                only_where: String::new(),
+            }],
+            ..d
+        },
+        // Rain splashing off the ground throws dirt up the foot of the wall.
+        "splash" => GammatonParams {
+            enabled: true,
+            particles: 120_000,
+            max_depth: 12,
+            p_straight: 0.25,
+            p_parabolic: 0.45,
+            p_flow: 0.2,
+            hop: 5.0,
+            sources: vec![source(SourceKind::Ground, vec![1.0])],
+            substances: vec![Substance {
+                name: "splash dirt".into(),
+                absorb: 0.0,
+                deposit: 0.3,
+                initial: 0.0,
+                scale: 1.5,
+                stops: fade([72, 58, 44], 0.7),
+            }],
+            ..d
+        },
+        _ => d,
+    }
+}
