@@ -249,7 +249,7 @@ pub fn simulate(
                 let rows = wall.rows;
                 wall.b[rows..(wall.cols - 1) * rows]
                     .par_chunks_mut(rows)
-                    .zip(previous.deposit.data().par_chunks(height))
+                    .zip(previous.deposit.data().par_chunks(previous.deposit.line()))
                     .for_each(|(b, deposit)| {
                         for (b, d) in b[1..].iter_mut().zip(deposit) {
                             *b = (*b + raise * d).min(255.0);
