@@ -141,11 +141,6 @@ impl<T, O: Order> Field<T, O> {
         &mut self.data
     }
 
-    /// The storage, for reuse.
-    pub fn into_data(self) -> Vec<T> {
-        self.data
-    }
-
     /// Length of a contiguous line: the width for [`RowMajor`], the height
     /// for [`ColumnMajor`].
     #[inline]

@@ -6,6 +6,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use grime::export;
+use grime::export::psd::unpackbits;
 use grime::photo::Photo;
 use grime::stack::{BlendMode, Layer, LayerPixels, Stack};
 use image::{DynamicImage, GrayImage, ImageBuffer, Luma, Rgb, Rgba, RgbaImage};
@@ -362,7 +363,7 @@ fn layer_channel(b: &[u8], records: &[Record], layer: usize, index: usize) -> Ve
     at += 2 * h;
     let mut plane = Vec::new();
     for n in counts {
-        unpack(&b[at..at + n], &mut plane);
+        unpackbits(&b[at..at + n], &mut plane).expect("valid PackBits");
         at += n;
     }
     plane
@@ -384,27 +385,11 @@ fn merged_image(b: &[u8]) -> Vec<Vec<u8>> {
     for c in 0..channels {
         let mut plane = Vec::new();
         for &n in &counts[c * h..(c + 1) * h] {
-            unpack(&b[at..at + n], &mut plane);
+            unpackbits(&b[at..at + n], &mut plane).expect("valid PackBits");
             at += n;
         }
         planes.push(plane);
     }
     assert_eq!(at, b.len(), "merged image ends the file");
     planes
-}
-
-fn unpack(mut src: &[u8], out: &mut Vec<u8>) {
-    while let Some((&h, rest)) = src.split_first() {
-        let h = h as i8;
-        if h >= 0 {
-            let n = h as usize + 1;
-            out.extend_from_slice(&rest[..n]);
-            src = &rest[n..];
-        } else if h != -128 {
-            out.extend(std::iter::repeat_n(rest[0], (1 - h as isize) as usize));
-            src = &rest[1..];
-        } else {
-            src = rest;
-        }
-    }
 }

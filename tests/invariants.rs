@@ -170,3 +170,22 @@ fn looks_like_the_reference() {
         "worst {worst}/255, mean {mean:.2}/255 off the reference"
     );
 }
+
+#[test]
+fn an_in_range_preset_asking_for_too_much_rain_is_refused_not_aborted() {
+    // Issue 13: each value is in range, but together they ask for about
+    // 1e8 droplets per rainfall (18 GB at once before the bound).
+    let (scene, mut preset) = facade(320, 240);
+    preset.rain.droplets = 100_000;
+    preset.rain.reference_width = 1;
+    preset.validate().expect("every value is in range");
+    let started = std::time::Instant::now();
+    let e = pipeline::run(&scene, &preset, &Progress::none()).unwrap_err();
+    assert!(matches!(e, grime::Error::TooMuchWork { .. }), "{e}");
+    let message = e.to_string();
+    assert!(message.contains("rain.droplets"), "{message}");
+    assert!(
+        started.elapsed().as_secs() < 10,
+        "refused before simulating"
+    );
+}

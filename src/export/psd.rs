@@ -622,6 +622,39 @@ pub fn packbits(src: &[u8], out: &mut Vec<u8>) {
     }
 }
 
+/// PackBits decoding of `src`, appended to `out`: a header byte h in
+/// 0..=127 copies the next h + 1 bytes, h in -127..=-1 (as a signed byte)
+/// repeats the next byte 1 - h times, and -128 is skipped. `None` when a
+/// packet runs past the end of `src`; `out` then holds the packets before
+/// it. Never panics, and never writes more than 64 bytes per input byte.
+///
+/// ```
+/// use grime::export::psd::{packbits, unpackbits};
+/// let mut packed = Vec::new();
+/// packbits(&[7, 7, 7, 1, 2], &mut packed);
+/// let mut out = Vec::new();
+/// assert_eq!(unpackbits(&packed, &mut out), Some(()));
+/// assert_eq!(out, [7, 7, 7, 1, 2]);
+/// assert_eq!(unpackbits(&[5, 1], &mut out), None); // 6 literals promised, 1 given
+/// ```
+pub fn unpackbits(mut src: &[u8], out: &mut Vec<u8>) -> Option<()> {
+    while let Some((&h, rest)) = src.split_first() {
+        let h = h as i8;
+        src = if h >= 0 {
+            let n = h as usize + 1;
+            out.extend_from_slice(rest.get(..n)?);
+            &rest[n..]
+        } else if h != -128 {
+            let (&b, after) = rest.split_first()?;
+            out.extend(std::iter::repeat_n(b, (1 - h as isize) as usize));
+            after
+        } else {
+            rest
+        };
+    }
+    Some(())
+}
+
 /// Eight bytes from `at` as a little-endian word (`at + 8 <= src.len()`).
 #[inline]
 fn load8(src: &[u8], at: usize) -> u64 {
@@ -649,23 +682,9 @@ impl PutBe for Vec<u8> {
 mod tests {
     use super::*;
 
-    /// Plain PackBits decoder, the reference.
-    fn unpack(mut src: &[u8]) -> Vec<u8> {
+    fn unpack(src: &[u8]) -> Vec<u8> {
         let mut out = Vec::new();
-        while let Some((&h, rest)) = src.split_first() {
-            let h = h as i8;
-            if h >= 0 {
-                let n = h as usize + 1;
-                out.extend_from_slice(&rest[..n]);
-                src = &rest[n..];
-            } else if h != -128 {
-                let n = 1 - h as isize;
-                out.extend(std::iter::repeat_n(rest[0], n as usize));
-                src = &rest[1..];
-            } else {
-                src = rest;
-            }
-        }
+        unpackbits(src, &mut out).expect("valid PackBits");
         out
     }
 
@@ -679,6 +698,35 @@ mod tests {
             prop_assert_eq!(unpack(&out), v.clone());
             prop_assert!(out.len() <= v.len() + v.len().div_ceil(128));
         });
+    }
+
+    #[test]
+    fn unpackbits_refuses_truncated_input_without_panicking() {
+        use proptest::prelude::*;
+        proptest!(|(v in proptest::collection::vec(any::<u8>(), 0..300))| {
+            let mut out = Vec::new();
+            if unpackbits(&v, &mut out).is_some() {
+                // A valid stream re-encodes to the same bytes.
+                let mut again = Vec::new();
+                packbits(&out, &mut again);
+                prop_assert_eq!(unpack(&again), out.clone());
+            }
+            prop_assert!(out.len() <= 64 * v.len() + 64);
+        });
+        let mut out = Vec::new();
+        assert_eq!(
+            unpackbits(&[2, 1, 2], &mut out),
+            None,
+            "3 literals, 2 given"
+        );
+        assert_eq!(
+            unpackbits(&[0xFE], &mut out),
+            None,
+            "a repeat without its byte"
+        );
+        out.clear();
+        assert_eq!(unpackbits(&[0x80, 0xFF, 9], &mut out), Some(()));
+        assert_eq!(out, [9, 9], "-128 is skipped, -1 repeats twice");
     }
 
     #[test]

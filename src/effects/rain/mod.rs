@@ -249,7 +249,7 @@ pub fn simulate(
                 let rows = wall.rows;
                 wall.b[rows..(wall.cols - 1) * rows]
                     .par_chunks_mut(rows)
-                    .zip(previous.deposit.data().par_chunks(height))
+                    .zip(previous.deposit.data().par_chunks(previous.deposit.line()))
                     .for_each(|(b, deposit)| {
                         for (b, d) in b[1..].iter_mut().zip(deposit) {
                             *b = (*b + raise * d).min(255.0);
@@ -265,9 +265,10 @@ pub fn simulate(
             // The droplets before this round's diffusion, SCHEDULE at a time.
             let batch = (round * n).div_ceil(rounds)..((round + 1) * n).div_ceil(rounds);
             for first in batch.clone().step_by(SCHEDULE) {
-                let mut runners = Vec::with_capacity(SCHEDULE.min(batch.end - first));
-                for k in first..(first + SCHEDULE).min(batch.end) {
-                    if let Some((runner, s0)) = clouds.droplet(layer, k, &mut starts[k]) {
+                let end = (first + SCHEDULE).min(batch.end);
+                let mut runners = Vec::with_capacity(end - first);
+                for (k, start) in starts[first..end].iter_mut().enumerate() {
+                    if let Some((runner, s0)) = clouds.droplet(layer, first + k, start) {
                         stats.dirt_from_ledges += s0 as f64;
                         runners.push(runner);
                     }
