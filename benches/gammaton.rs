@@ -18,6 +18,7 @@ fn million(c: &mut Criterion) {
             kind: SourceKind::Sky,
             share: 1.0,
             points: Vec::new(),
+            spots: 0,
             carries: vec![1.0],
         }],
         ..GammatonParams::default()

@@ -74,6 +74,7 @@ impl Default for GammatonParams {
                 kind: SourceKind::Sky,
                 share: 1.0,
                 points: Vec::new(),
+                spots: 0,
                 carries: vec![1.0],
             }],
             substances: vec![Substance {
@@ -117,6 +118,10 @@ pub struct GammaSource {
     /// point source).
     #[serde(default)]
     pub points: Vec<[f32; 2]>,
+    /// For `line`: emit from this many fixed spots along it (a fixing, a
+    /// bracket), drawn from the seed; 0 = anywhere along it.
+    #[serde(default)]
+    pub spots: u32,
     /// What each γ-ton starts with, per substance in `substances` order.
     #[serde(default)]
     pub carries: Vec<f32>,
@@ -141,7 +146,8 @@ pub struct Substance {
     /// Concentration on the wall before the first iteration.
     #[serde(default)]
     pub initial: f32,
-    /// The concentration the last blend stop stands for.
+    /// The concentration above `initial` the last blend stop stands for
+    /// (the layer shows what the γ-tons gathered, not the wall's own).
     #[serde(default = "one")]
     pub scale: f32,
     /// Blend stops: concentration (0..1 of `scale`) to colour and opacity,
@@ -235,36 +241,71 @@ impl GammatonParams {
         for (i, s) in self.substances.iter().enumerate() {
             let field = |f: &str| format!("gammaton.substances[{i}].{f}");
             if s.name.is_empty() || self.substance(&s.name) != Some(i) {
-                return Err(bad(field("name"), format!("{:?}", s.name), "a unique, non-empty name"));
+                return Err(bad(
+                    field("name"),
+                    format!("{:?}", s.name),
+                    "a unique, non-empty name",
+                ));
             }
             let sorted = s.stops.windows(2).all(|w| w[0].value <= w[1].value);
-            if s.stops.is_empty() || !sorted || s.stops.iter().any(|t| !(0.0..=1.0).contains(&t.opacity)) {
-                return Err(bad(field("stops"), format!("{:?}", s.stops), "at least one stop, values ascending, opacity 0 ..= 1"));
+            if s.stops.is_empty()
+                || !sorted
+                || s.stops.iter().any(|t| !(0.0..=1.0).contains(&t.opacity))
+            {
+                return Err(bad(
+                    field("stops"),
+                    format!("{:?}", s.stops),
+                    "at least one stop, values ascending, opacity 0 ..= 1",
+                ));
             }
         }
         if self.sources.is_empty() {
-            return Err(bad("gammaton.sources".into(), "[]".into(), "at least one source"));
+            return Err(bad(
+                "gammaton.sources".into(),
+                "[]".into(),
+                "at least one source",
+            ));
         }
         for (i, s) in self.sources.iter().enumerate() {
             let field = |f: &str| format!("gammaton.sources[{i}].{f}");
             if s.carries.len() > n || s.carries.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
-                return Err(bad(field("carries"), format!("{:?}", s.carries), "one amount >= 0 per substance, at most one per substance"));
+                return Err(bad(
+                    field("carries"),
+                    format!("{:?}", s.carries),
+                    "one amount >= 0 per substance, at most one per substance",
+                ));
             }
             if s.points.iter().flatten().any(|c| !c.is_finite()) {
-                return Err(bad(field("points"), format!("{:?}", s.points), "finite [x, y] points (none: a line source uses rain.source_lines)"));
+                return Err(bad(
+                    field("points"),
+                    format!("{:?}", s.points),
+                    "finite [x, y] points (none: a line source uses rain.source_lines)",
+                ));
             }
         }
         for (i, r) in self.rules.iter().enumerate() {
             let field = |f: &str| format!("gammaton.rules[{i}].{f}");
             let known = |name: &str| self.substance(name).is_some();
             if !known(&r.from) {
-                return Err(bad(field("from"), format!("{:?}", r.from), "the name of a substance"));
+                return Err(bad(
+                    field("from"),
+                    format!("{:?}", r.from),
+                    "the name of a substance",
+                ));
             }
             if r.kind == RuleKind::Transfer && !known(&r.to) {
-                return Err(bad(field("to"), format!("{:?}", r.to), "the name of a substance"));
+                return Err(bad(
+                    field("to"),
+                    format!("{:?}", r.to),
+                    "the name of a substance",
+                ));
             }
             if !r.only_where.is_empty() && !known(&r.only_where) {
-                return Err(bad(field("only_where"), format!("{:?}", r.only_where), "the name of a substance, or \"\""));
+                return Err(bad(
+                    field("only_where"),
+                    format!("{:?}", r.only_where),
+                    "the name of a substance, or \"\"",
+                ));
             }
         }
         Ok(())
@@ -278,9 +319,12 @@ pub fn builtin(name: &str) -> GammatonParams {
         kind,
         share: 1.0,
         points: Vec::new(),
+        spots: 0,
         carries,
     };
-    let fade = |color: [u8; 3], opacity: f32| vec![Stop::new(0.0, color, 0.0), Stop::new(1.0, color, opacity)];
+    let fade = |color: [u8; 3], opacity: f32| {
+        vec![Stop::new(0.0, color, 0.0), Stop::new(1.0, color, opacity)]
+    };
     let d = GammatonParams::default();
     match name {
         // Dissolved iron from the ledges' fixings and railings (line
@@ -297,8 +341,11 @@ pub fn builtin(name: &str) -> GammatonParams {
             d_parabolic: 0.01,
             d_flow: 0.004,
             flow_step: 2.0,
-            wander: 0.12,
-            sources: vec![source(SourceKind::Line, vec![1.0])],
+            wander: 0.25,
+            sources: vec![GammaSource {
+                spots: 14,
+                ..source(SourceKind::Line, vec![1.0])
+            }],
             substances: vec![Substance {
                 name: "rust".into(),
                 absorb: 0.0,
@@ -307,26 +354,32 @@ pub fn builtin(name: &str) -> GammatonParams {
                 scale: 0.6,
                 stops: vec![
                     Stop::new(0.0, [150, 80, 35], 0.0),
-                    Stop::new(0.4, [150, 80, 35], 0.35),
-                    Stop::new(1.0, [105, 50, 25], 0.75),
+                    Stop::new(0.4, [150, 80, 35], 0.3),
+                    Stop::new(1.0, [110, 55, 28], 0.6),
                 ],
             }],
             ..d
         },
-        // Rain water dissolves the salts in the wall and leaves them where
-        // it settles and dries, low on the wall (classic transport).
+        // Rising damp: ground water climbs the foot of the wall, dissolving
+        // the salts in it, and leaves them where it stops and dries: a
+        // white tide line (classic transport: absorb on the way, deposit
+        // all on settling).
         "salt-bloom" => GammatonParams {
             enabled: true,
             particles: 150_000,
-            iterations: 2,
-            max_depth: 80,
-            p_straight: 0.0,
+            max_depth: 10,
+            p_straight: 0.75,
             p_parabolic: 0.0,
-            p_flow: 0.98,
-            d_flow: 0.012,
+            p_flow: 0.05,
+            d_straight: 0.12,
+            d_flow: 0.0,
+            hop: 10.0,
             consistent: false,
             radius: 1.0,
-            sources: vec![source(SourceKind::Sky, vec![1.0, 0.0])],
+            sources: vec![GammaSource {
+                kind: SourceKind::Ground,
+                ..source(SourceKind::Ground, vec![1.0, 0.0])
+            }],
             substances: vec![
                 Substance {
                     name: "water".into(),
@@ -338,11 +391,15 @@ pub fn builtin(name: &str) -> GammatonParams {
                 },
                 Substance {
                     name: "salt".into(),
-                    absorb: 0.15,
+                    absorb: 0.3,
                     deposit: 1.0,
-                    initial: 0.05,
-                    scale: 1.5,
-                    stops: fade([236, 234, 226], 0.8),
+                    initial: 0.5,
+                    scale: 0.8,
+                    stops: vec![
+                        Stop::new(0.0, [236, 234, 226], 0.0),
+                        Stop::new(0.3, [236, 234, 226], 0.25),
+                        Stop::new(1.0, [244, 243, 238], 0.85),
+                    ],
                 },
             ],
             rules: vec![Rule {
@@ -359,18 +416,18 @@ pub fn builtin(name: &str) -> GammatonParams {
             enabled: true,
             particles: 120_000,
             max_depth: 12,
-            p_straight: 0.25,
-            p_parabolic: 0.45,
-            p_flow: 0.2,
-            hop: 5.0,
+            p_straight: 0.3,
+            p_parabolic: 0.5,
+            p_flow: 0.1,
+            hop: 12.0,
             sources: vec![source(SourceKind::Ground, vec![1.0])],
             substances: vec![Substance {
                 name: "splash dirt".into(),
                 absorb: 0.0,
                 deposit: 0.3,
                 initial: 0.0,
-                scale: 1.5,
-                stops: fade([72, 58, 44], 0.7),
+                scale: 0.6,
+                stops: fade([72, 58, 44], 0.65),
             }],
             ..d
         },

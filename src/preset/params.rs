@@ -661,6 +661,13 @@ pub const PARAMS: &[ParamSpec] = &[
         1000.0,
     ),
     p(
+        "gammaton.sources.spots",
+        "",
+        "Line sources: emit from this many fixed spots along the line (fixings, brackets); 0 = anywhere along it",
+        0.0,
+        10000.0,
+    ),
+    p(
         "gammaton.substances",
         "",
         "Substances (at most 4): [{ name, absorb, deposit, initial, scale, stops = [{ value, color, opacity }] }]",
@@ -691,7 +698,7 @@ pub const PARAMS: &[ParamSpec] = &[
     p(
         "gammaton.substances.scale",
         "",
-        "Concentration shown by the last blend stop",
+        "Concentration above initial shown by the last blend stop (the layer shows what the gamma-tons gathered)",
         1e-06,
         1000000.0,
     ),

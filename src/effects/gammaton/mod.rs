@@ -112,7 +112,7 @@ pub fn simulate(
         region: (0..w * h).map(|i| region.get(i / h, i % h)).collect(),
         luma: col(&|x, y| luma.get(x, y)),
     };
-    let emitters = Emitters::new(&world, p, lines)?;
+    let emitters = Emitters::new(&world, p, lines, seed)?;
     let mut laws = Laws {
         substances: n,
         absorb: [0.0; MAX_SUBSTANCES],
@@ -208,11 +208,18 @@ struct Emitters {
     feet: Vec<(u32, u32)>,
     /// Per source: its polylines in grid pixels (line sources).
     lines: Vec<Vec<Vec<(f32, f32)>>>,
+    /// Per source: its fixed spots (fractions along its lines), if any.
+    spots: Vec<Vec<f32>>,
     rows: usize,
 }
 
 impl Emitters {
-    fn new(world: &World, p: &GammatonParams, ledges: &[Vec<(f32, f32)>]) -> Result<Emitters> {
+    fn new(
+        world: &World,
+        p: &GammatonParams,
+        ledges: &[Vec<(f32, f32)>],
+        seed: u64,
+    ) -> Result<Emitters> {
         let rows = world.rows;
         let wall: Vec<u32> = (0..world.region.len() as u32)
             .filter(|&i| world.region[i as usize])
@@ -226,7 +233,12 @@ impl Emitters {
                 col.iter().rposition(|&r| r).map(|y| (x as u32, y as u32))
             })
             .collect();
-        let sum: f32 = p.sources.iter().map(|s| s.share.max(0.0)).sum::<f32>().max(1e-9);
+        let sum: f32 = p
+            .sources
+            .iter()
+            .map(|s| s.share.max(0.0))
+            .sum::<f32>()
+            .max(1e-9);
         let mut acc = 0.0;
         let shares = p
             .sources
@@ -250,11 +262,21 @@ impl Emitters {
             };
             lines.push(own);
         }
+        let spots = p
+            .sources
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                let mut r = rng(seed, (Effect::Gammaton, u16::MAX), 1, i as u64);
+                (0..s.spots).map(|_| r.random::<f32>()).collect()
+            })
+            .collect();
         Ok(Emitters {
             shares,
             wall,
             feet,
             lines,
+            spots,
             rows,
         })
     }
@@ -263,7 +285,11 @@ impl Emitters {
     fn emit(&self, p: &GammatonParams, seed: u64, it: u32, k: usize) -> Gammaton {
         let mut r = rng(seed, (Effect::Gammaton, it as u16), 0, k as u64);
         let xi: f32 = r.random();
-        let i = self.shares.iter().position(|&s| xi < s).unwrap_or(self.shares.len() - 1);
+        let i = self
+            .shares
+            .iter()
+            .position(|&s| xi < s)
+            .unwrap_or(self.shares.len() - 1);
         let source = &p.sources[i];
         let mut carried = [0.0; MAX_SUBSTANCES];
         for (c, v) in carried.iter_mut().zip(&source.carries) {
@@ -276,18 +302,37 @@ impl Emitters {
             SourceKind::Sky => {
                 let at = self.wall[r.random_range(0..self.wall.len())] as usize;
                 let (x, y) = (at / self.rows, at % self.rows);
-                ((x as f32 + jitter(&mut r), y as f32 + jitter(&mut r)), (0.0, 1.0), Motion::Straight, 0.0)
+                (
+                    (x as f32 + jitter(&mut r), y as f32 + jitter(&mut r)),
+                    (0.0, 1.0),
+                    Motion::Straight,
+                    0.0,
+                )
             }
             // Splash: thrown up from the foot of the wall.
             SourceKind::Ground => {
                 let (x, y) = self.feet[r.random_range(0..self.feet.len())];
                 let a = (jitter(&mut r) * 2.0 - 1.0) * 0.5;
                 let up = p.hop * (0.3 + jitter(&mut r));
-                ((x as f32 + jitter(&mut r), y as f32 + 0.5), (a.sin(), -a.cos()), Motion::Straight, up)
+                (
+                    (x as f32 + jitter(&mut r), y as f32 + 0.5),
+                    (a.sin(), -a.cos()),
+                    Motion::Straight,
+                    up,
+                )
             }
             SourceKind::Line => {
-                let at = point_on(&self.lines[i], jitter(&mut r));
-                (at, (0.0, 1.0), Motion::Straight, 0.0)
+                let spots = &self.spots[i];
+                let (x, y) = match spots.is_empty() {
+                    true => point_on(&self.lines[i], jitter(&mut r)),
+                    // A fixing: a spot a pixel or two wide.
+                    false => {
+                        let (x, y) =
+                            point_on(&self.lines[i], spots[r.random_range(0..spots.len())]);
+                        (x + (jitter(&mut r) - 0.5) * 5.0, y)
+                    }
+                };
+                ((x, y), (0.0, 1.0), Motion::Straight, 0.0)
             }
         };
         Gammaton::new(k, pos, vel, motion, left, probs, carried, r)
@@ -296,7 +341,11 @@ impl Emitters {
 
 /// The point a fraction `t` along the polylines' total length.
 fn point_on(lines: &[Vec<(f32, f32)>], t: f32) -> (f32, f32) {
-    let segments = || lines.iter().flat_map(|l| l.windows(2).map(|w| (w[0], w[1])));
+    let segments = || {
+        lines
+            .iter()
+            .flat_map(|l| l.windows(2).map(|w| (w[0], w[1])))
+    };
     let length: f32 = segments().map(|(a, b)| (b.0 - a.0).hypot(b.1 - a.1)).sum();
     let mut rest = t * length;
     for (a, b) in segments() {
@@ -311,7 +360,12 @@ fn point_on(lines: &[Vec<(f32, f32)>], t: f32) -> (f32, f32) {
 }
 
 /// The γ-tons as a pipeline stage: one layer per substance.
-pub(super) fn stage(ctx: &Context, _: &mut Products, preset: &Preset, progress: &Progress) -> Result<Produced> {
+pub(super) fn stage(
+    ctx: &Context,
+    _: &mut Products,
+    preset: &Preset,
+    progress: &Progress,
+) -> Result<Produced> {
     let p = &preset.gammaton;
     let grid = ctx.grid;
     let ledges: Vec<Vec<(f32, f32)>> = preset
@@ -327,13 +381,21 @@ pub(super) fn stage(ctx: &Context, _: &mut Products, preset: &Preset, progress: 
             *q = [x, y];
         }
     }
-    let out = simulate(ctx.luma, ctx.region, &ledges, &p_grid, preset.seed, &progress.span(0.0, 0.9))?;
+    let out = simulate(
+        ctx.luma,
+        ctx.region,
+        &ledges,
+        &p_grid,
+        preset.seed,
+        &progress.span(0.0, 0.9),
+    )?;
     let (w, h) = ctx.size();
     let mut layers = Vec::with_capacity(out.maps.len());
     for (s, map) in p.substances.iter().zip(&out.maps) {
         progress.check()?;
+        // What the γ-tons gathered beyond the wall's own content.
         let scaled = RowMajor::from_fn(map.width(), map.height(), |x, y| {
-            (map.get(x, y) / s.scale).clamp(0.0, 1.0)
+            ((map.get(x, y) - s.initial) / s.scale).clamp(0.0, 1.0)
         });
         let value = grid.upsample(&scaled, ctx.mask, w, h);
         layers.push(Layer {

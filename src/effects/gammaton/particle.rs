@@ -207,9 +207,8 @@ pub fn exchange(
 ) -> (f32, f32) {
     let n = cells.len().max(1) as f32;
     let want: f32 = cells.iter().map(|&j| -a * map[j] / n).sum();
-    let mut each = |f: &mut dyn FnMut(&mut f32) -> f32| -> f32 {
-        cells.iter().map(|&j| f(&mut map[j])).sum()
-    };
+    let mut each =
+        |f: &mut dyn FnMut(&mut f32) -> f32| -> f32 { cells.iter().map(|&j| f(&mut map[j])).sum() };
     if consistent {
         let d = (k - a).clamp(-1.0, 1.0);
         if d >= 0.0 {
@@ -307,7 +306,10 @@ impl Space<Gammaton> for World {
                 end: w[1],
                 rows,
                 width: self.width,
-                maps: per_map.iter_mut().map(|parts| std::mem::take(&mut parts[i])).collect(),
+                maps: per_map
+                    .iter_mut()
+                    .map(|parts| std::mem::take(&mut parts[i]))
+                    .collect(),
                 region: &self.region,
                 luma: &self.luma,
             })

@@ -29,7 +29,11 @@ pub fn apply(maps: &mut [Vec<f32>], p: &GammatonParams) {
                     .iter_mut()
                     .enumerate()
                     .map(|(i, c)| {
-                        let m = if here(i) { (k * *c).clamp(-*c, *c) } else { 0.0 };
+                        let m = if here(i) {
+                            (k * *c).clamp(-*c, *c)
+                        } else {
+                            0.0
+                        };
                         *c -= m;
                         m
                     })

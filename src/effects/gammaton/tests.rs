@@ -15,7 +15,10 @@ fn substance(name: &str, absorb: f32, deposit: f32, initial: f32) -> Substance {
         deposit,
         initial,
         scale: 1.0,
-        stops: vec![Stop::new(0.0, [0; 3], 0.0), Stop::new(1.0, [200, 80, 20], 1.0)],
+        stops: vec![
+            Stop::new(0.0, [0; 3], 0.0),
+            Stop::new(1.0, [200, 80, 20], 1.0),
+        ],
     }
 }
 
@@ -29,16 +32,21 @@ fn params(consistent: bool) -> GammatonParams {
                 kind: SourceKind::Sky,
                 share: 2.0,
                 points: Vec::new(),
+                spots: 0,
                 carries: vec![1.0, 0.0],
             },
             GammaSource {
                 kind: SourceKind::Ground,
                 share: 1.0,
                 points: Vec::new(),
+                spots: 0,
                 carries: vec![0.5, 0.2],
             },
         ],
-        substances: vec![substance("water", 0.3, 0.5, 0.0), substance("salt", 0.2, 1.0, 0.4)],
+        substances: vec![
+            substance("water", 0.3, 0.5, 0.0),
+            substance("salt", 0.2, 1.0, 0.4),
+        ],
         ..GammatonParams::default()
     }
 }
@@ -67,7 +75,10 @@ fn transport_conserves_every_substance_in_both_modes() {
         let out = run(&params(consistent));
         assert_conserved(&out);
         assert_eq!(out.stats.emitted, 3000);
-        assert!(out.stats.contacts > 3000, "every γ-ton touched the wall at least once");
+        assert!(
+            out.stats.contacts > 3000,
+            "every γ-ton touched the wall at least once"
+        );
         let salt = &out.stats.substances[1];
         assert!(salt.on_wall > 0.0 && salt.lost > 0.0, "{salt:?}");
     }
@@ -79,7 +90,10 @@ fn deterioration_follows_eq_3_21() {
     let [ps, pp, pf] = deteriorate([0.0, 0.8, 0.2], [1.0, 0.1, 0.1]);
     assert_eq!(ps, 0.0);
     assert!((pp - 0.7).abs() < 1e-6);
-    assert!((pf - 0.3).abs() < 1e-6, "capped at 1 - p_s' - p_p', got {pf}");
+    assert!(
+        (pf - 0.3).abs() < 1e-6,
+        "capped at 1 - p_s' - p_p', got {pf}"
+    );
     // Plain case: p_f' = p_f + p_p' - Δ_f.
     let [ps, pp, pf] = deteriorate([0.3, 0.3, 0.2], [0.1, 0.1, 0.3]);
     assert!((ps - 0.2).abs() < 1e-6 && (pp - 0.2).abs() < 1e-6);
@@ -166,7 +180,12 @@ fn settle_only_gammatons_leave_everything_where_they_stop() {
     assert!((water.on_wall - water.emitted).abs() < 1e-2, "{water:?}");
     assert!(water.lost.abs() < 1e-6);
     // Each γ-ton carried 1: every wetted pixel holds a whole number of them.
-    assert!(out.maps[0].data().iter().all(|&v| (v - v.round()).abs() < 1e-4));
+    assert!(
+        out.maps[0]
+            .data()
+            .iter()
+            .all(|&v| (v - v.round()).abs() < 1e-4)
+    );
 }
 
 #[test]
@@ -175,8 +194,17 @@ fn same_result_at_one_two_and_three_threads() {
     let runs: Vec<Vec<Vec<f32>>> = [1, 2, 3]
         .into_iter()
         .map(|n| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap();
-            pool.install(|| run(&p).maps.into_iter().map(|m| m.into_data()).collect())
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                run(&p)
+                    .maps
+                    .into_iter()
+                    .map(|m| m.data().to_vec())
+                    .collect()
+            })
         })
         .collect();
     assert_eq!(runs[0], runs[1]);
@@ -185,7 +213,10 @@ fn same_result_at_one_two_and_three_threads() {
 
 #[test]
 fn stops_interpolate_and_clamp() {
-    let stops = [Stop::new(0.2, [0, 0, 0], 0.0), Stop::new(0.6, [200, 100, 0], 1.0)];
+    let stops = [
+        Stop::new(0.2, [0, 0, 0], 0.0),
+        Stop::new(0.6, [200, 100, 0], 1.0),
+    ];
     assert_eq!(rules::sample(&stops, 0.0), ([0.0; 3], 0.0));
     let (c, a) = rules::sample(&stops, 0.4);
     assert!((c[0] - 100.0).abs() < 1e-3 && (c[1] - 50.0).abs() < 1e-3 && (a - 0.5).abs() < 1e-6);
