@@ -541,6 +541,18 @@ impl Preset {
                 "--set: unknown field {key:?}; see `grime preset default`"
             ))
         })?;
+        // A whole number TOML cannot hold (past i64) is out of range, not a
+        // string of the wrong type.
+        if matches!(parsed, toml::Value::String(_)) && is_integer_text(raw) {
+            return Err(Error::OutOfRange {
+                field: key.to_string(),
+                value: raw.to_string(),
+                range: match param(key) {
+                    Some(spec) if key != "seed" => format!("{} ..= {}", spec.min, spec.max),
+                    _ => format!("0 ..= {}", i64::MAX),
+                },
+            });
+        }
         // Keep floats floats: `--set rain.k_a=1` means 1.0.
         *slot = match (&*slot, parsed) {
             (toml::Value::Float(_), toml::Value::Integer(i)) => toml::Value::Float(i as f64),
@@ -580,6 +592,12 @@ impl Preset {
         }
         out
     }
+}
+
+/// True for `123`, `-4`, `+5_000`: digits with an optional sign.
+fn is_integer_text(raw: &str) -> bool {
+    let digits = raw.strip_prefix(['-', '+']).unwrap_or(raw);
+    !digits.is_empty() && digits.chars().all(|c| c.is_ascii_digit() || c == '_')
 }
 
 fn push_field(out: &mut String, path: &str, key: &str, v: &toml::Value) {
@@ -713,6 +731,32 @@ mod tests {
             }
             _ => {}
         }
+    }
+
+    #[test]
+    fn set_seed_past_i64_says_out_of_range() {
+        let mut p = Preset::default();
+        let err = p.set("seed=18446744073709551615").unwrap_err().to_string();
+        assert_eq!(
+            err,
+            "preset: seed = 18446744073709551615 is out of range; allowed: 0 ..= 9223372036854775807"
+        );
+        let err = p
+            .set("rain.layers=99999999999999999999")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("rain.layers = 99999999999999999999 is out of range"),
+            "{err}"
+        );
+        assert!(
+            p.set("nope=99999999999999999999")
+                .unwrap_err()
+                .to_string()
+                .contains("unknown field")
+        );
+        p.set("seed=9223372036854775807").unwrap();
+        assert_eq!(p.seed, i64::MAX as u64);
     }
 
     #[test]
