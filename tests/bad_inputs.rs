@@ -236,3 +236,80 @@ fn sixteen_bit_png_outputs_say_srgb() {
     assert!(grime(&args).status.success());
     assert_eq!(grime::io::load_image(&out8).unwrap().1, None);
 }
+
+/// Images `dir/0.png ..` large enough that ageing each takes a moment.
+fn slow_photos(dir: &Path, n: usize) {
+    std::fs::create_dir_all(dir).unwrap();
+    let img = DynamicImage::ImageRgb8(grime::demo::facade(480, 360).photo.image().to_rgb8());
+    for i in 0..n {
+        img.save(dir.join(format!("{i}.png"))).unwrap();
+    }
+}
+
+fn temp_files(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect()
+}
+
+#[test]
+fn sigterm_stops_a_batch_with_its_summary_so_far() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    let output = dir.path().join("out");
+    slow_photos(&input, 8);
+    let child = Command::new(env!("CARGO_BIN_EXE_grime"))
+        .args(["batch", s(&input), "-o", s(&output), "--json", "-q"])
+        .args(["--jobs", "1", "--layers", "12"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t = std::time::Instant::now();
+    while !output.join("0.png").exists() {
+        assert!(t.elapsed().as_secs() < 120, "no image written");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    assert!(stderr(&o).contains("interrupted"), "{}", stderr(&o));
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let files = summary["files"].as_array().unwrap();
+    assert!(!files.is_empty() && files.len() < 8, "{summary}");
+    assert!(temp_files(&output).is_empty(), "{:?}", temp_files(&output));
+}
+
+#[test]
+fn skip_existing_removes_orphans_of_a_killed_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    let output = dir.path().join("out");
+    std::fs::create_dir_all(&input).unwrap();
+    std::fs::create_dir_all(&output).unwrap();
+    photo(&input, "a.png");
+    // What SIGKILL leaves: a temp file of a process that is gone (this pid
+    // is above Linux's pid_max), an hour old; and a user's file.
+    let orphan = output.join(".a.png.grime-2147483632-0.tmp");
+    std::fs::write(&orphan, b"half").unwrap();
+    std::fs::File::options()
+        .write(true)
+        .open(&orphan)
+        .unwrap()
+        .set_modified(std::time::SystemTime::now() - std::time::Duration::from_secs(3600))
+        .unwrap();
+    std::fs::write(output.join("keep.tmp"), b"mine").unwrap();
+    let mut args = vec!["batch", s(&input), "-o", s(&output), "--skip-existing"];
+    args.extend(FAST);
+    let o = grime(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("removed 1 orphaned temporary files"));
+    assert!(!orphan.exists());
+    assert!(output.join("keep.tmp").exists() && output.join("a.png").exists());
+}

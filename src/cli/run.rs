@@ -1,7 +1,6 @@
 //! `grime run`: age one photo.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 
 use anyhow::{Context, bail};
 use clap::Args;
@@ -94,16 +93,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         1000,
         "{spinner} {msg:8} [{bar:40}] {percent:>3}% {elapsed}",
     );
-    let cancel = AtomicBool::new(false);
+    let cancel = super::signals::cancel_flag();
     let update = |stage: &str, f: f32| {
         bar.set_message(stage.to_string());
         bar.set_position((f * 1000.0) as u64);
     };
-    let outcome = pipeline::run(
-        &scene,
-        &preset,
-        &Progress::new(Some(&update), Some(&cancel)),
-    )?;
+    let outcome = pipeline::run(&scene, &preset, &Progress::new(Some(&update), Some(cancel)))?;
     bar.finish_and_clear();
 
     export::save(&outcome.stack, &args.output)?;

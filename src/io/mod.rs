@@ -264,15 +264,20 @@ pub fn load_photo(path: &Path) -> Result<Photo> {
 /// # Errors
 /// As [`load_image`], plus [`Error::MaskSize`] when the size differs.
 pub fn load_mask(path: &Path, w: u32, h: u32) -> Result<GrayImage> {
-    let (img, _) = load_image(path)?;
-    if img.width() != w || img.height() != h {
-        return Err(Error::MaskSize {
-            mask_w: img.width(),
-            mask_h: img.height(),
-            img_w: w,
-            img_h: h,
-        });
-    }
+    // The size is checked before decoding, so a mask claiming a huge size
+    // allocates nothing.
+    let (img, _) = load_image_checked(path, |mask_w, mask_h| {
+        if (mask_w, mask_h) == (w, h) {
+            Ok(())
+        } else {
+            Err(Error::MaskSize {
+                mask_w,
+                mask_h,
+                img_w: w,
+                img_h: h,
+            })
+        }
+    })?;
     Ok(mask_values(&img))
 }
 
