@@ -197,7 +197,8 @@ fn loaders_and_validation_survive_mutated_inputs() {
         let data = if i < seeds.len() {
             seeds[i].clone()
         } else {
-            mutate(&mut rng, &seeds[rng.random_range(0..seeds.len())])
+            let seed = rng.random_range(0..seeds.len());
+            mutate(&mut rng, &seeds[seed])
         };
         std::fs::write(&file, &data).unwrap();
         if i % 2 == 0 {
@@ -228,10 +229,11 @@ fn loaders_and_validation_survive_mutated_inputs() {
     let keys: Vec<&str> = grime::preset::PARAMS.iter().map(|p| p.path).collect();
     for i in 0..3000 {
         let key = keys[rng.random_range(0..keys.len())];
-        let value = mutate_text(&mut rng, &format!("{}", rng.random_range(0..1000)));
+        let number = rng.random_range(0..1000).to_string();
+        let value = mutate_text(&mut rng, &number);
         let set = match rng.random_range(0..4) {
             0 => format!("{key}={value}"),
-            1 => format!("{key}"),
+            1 => key.to_string(),
             2 => format!("{key}.x={value}"),
             _ => mutate_text(&mut rng, &format!("{key}={value}")),
         };

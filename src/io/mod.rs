@@ -150,6 +150,7 @@ pub fn load_image_checked(
     let format = sniff::format(path, &head)?;
     match format {
         image::ImageFormat::Png => sniff::check_png_icc(path)?,
+        image::ImageFormat::Tiff => sniff::check_tiff_tags(path)?,
         image::ImageFormat::Jpeg => {
             // The JPEG decoder fills a truncated scan with grey instead of failing.
             let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
@@ -174,6 +175,21 @@ pub fn load_image_checked(
         });
     }
     check(w, h)?;
+    // Now that the size is known, no buffer may be much larger than the
+    // image: a crafted file cannot make the decoder allocate the 2 GiB the
+    // format-blind limit allowed (a TIFF claiming a 250 MB strip for a 40 x
+    // 30 image did).
+    let mut tight = limits();
+    tight.max_alloc = Some(
+        decoder
+            .total_bytes()
+            .saturating_mul(2)
+            .saturating_add(16 << 20)
+            .min(MAX_PIXELS * 8),
+    );
+    decoder
+        .set_limits(tight)
+        .map_err(|e| decode_error(path, e))?;
     let icc = decoder.icc_profile().ok().flatten();
     if let Some(profile) = &icc {
         icc::check(profile).map_err(|reason| Error::BadIcc {
