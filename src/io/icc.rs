@@ -114,7 +114,7 @@ fn build_srgb() -> Vec<u8> {
     for (sig, body) in &tags {
         put(sig, offset, body.len());
         data.extend_from_slice(body);
-        while data.len() % 4 != 0 {
+        while !data.len().is_multiple_of(4) {
             data.push(0);
         }
         offset = 128 + 4 + 12 * entries + data.len();
@@ -164,7 +164,7 @@ mod tests {
             let e = &p[132 + 12 * i..144 + 12 * i];
             let at = u32::from_be_bytes(e[4..8].try_into().unwrap()) as usize;
             let len = u32::from_be_bytes(e[8..12].try_into().unwrap()) as usize;
-            assert!(at % 4 == 0 && at + len <= p.len(), "tag {i}");
+            assert!(at.is_multiple_of(4) && at + len <= p.len(), "tag {i}");
         }
     }
 
