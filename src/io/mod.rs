@@ -297,6 +297,21 @@ pub fn load_mask(path: &Path, w: u32, h: u32) -> Result<GrayImage> {
     Ok(mask_values(&img))
 }
 
+/// [`load_mask`] for the mask of photo `image` (e.g. `batch --masks`): a
+/// missing mask file is [`Error::MaskMissing`], naming both.
+///
+/// # Errors
+/// As [`load_mask`], plus [`Error::MaskMissing`].
+pub fn load_mask_of(image: &Path, mask: &Path, w: u32, h: u32) -> Result<GrayImage> {
+    if !mask.exists() {
+        return Err(Error::MaskMissing {
+            image: image.to_path_buf(),
+            mask: mask.to_path_buf(),
+        });
+    }
+    load_mask(mask, w, h)
+}
+
 /// The mask values of a decoded mask image (see [`load_mask`]).
 pub fn mask_values(img: &DynamicImage) -> GrayImage {
     if img.color().has_alpha() {
@@ -479,6 +494,17 @@ mod tests {
             std::fs::read_dir(dir.path()).unwrap().count(),
             1,
             "temp file removed"
+        );
+    }
+
+    #[test]
+    fn a_missing_mask_is_named_as_the_mask() {
+        let err = load_mask_of(Path::new("in/a.jpg"), Path::new("masks/a.png"), 4, 4)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            err,
+            "in/a.jpg: its mask masks/a.png is missing; add the mask there or run without --masks"
         );
     }
 
