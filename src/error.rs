@@ -111,6 +111,58 @@ pub enum Error {
         /// Which preset fields to change, and how.
         fix: String,
     },
+    /// A file named as a photo or mask holds no PNG, JPEG, TIFF or WebP data.
+    #[error("{path}: not a PNG, JPEG, TIFF or WebP file ({found}); grime reads only those")]
+    NotAnImage {
+        /// The file involved.
+        path: PathBuf,
+        /// What its first bytes look like, e.g. `text` or `unrecognised bytes`.
+        found: String,
+    },
+    /// A real image, but in a format grime does not take as input (GIF, BMP, ...).
+    #[error("{path}: {kind} is not a supported input; convert it to PNG, JPEG, TIFF or WebP first")]
+    UnsupportedInput {
+        /// The file involved.
+        path: PathBuf,
+        /// The format found, e.g. `a GIF image`.
+        kind: String,
+    },
+    /// The photo's embedded ICC colour profile is too large or not a profile.
+    #[error(
+        "{path}: its ICC colour profile {reason}; remove the profile (e.g. `exiftool -icc_profile= FILE`) or re-save the photo"
+    )]
+    BadIcc {
+        /// The file involved.
+        path: PathBuf,
+        /// What is wrong with the profile.
+        reason: String,
+    },
+    /// Ageing the photo would need more memory than the limit allows.
+    #[error(
+        "{path}: a {width}x{height} photo needs about {needed} of memory to age, over the {limit} limit; raise it with --max-memory {suggest} (or GRIME_MAX_MEMORY={suggest}) or scale the photo down"
+    )]
+    MemoryLimit {
+        /// The photo.
+        path: PathBuf,
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+        /// Estimated peak memory, human-readable (e.g. `9.5 GB`).
+        needed: String,
+        /// The limit, human-readable.
+        limit: String,
+        /// A limit that would allow this run, e.g. `10G`.
+        suggest: String,
+    },
+    /// An image's region mask (`batch --masks`) does not exist.
+    #[error("{image}: its mask {mask} is missing; add the mask there or run without --masks")]
+    MaskMissing {
+        /// The photo whose mask is missing.
+        image: PathBuf,
+        /// Where its mask was expected.
+        mask: PathBuf,
+    },
     /// The caller cancelled the run.
     #[error("cancelled")]
     Cancelled,

@@ -6,7 +6,12 @@ use clap::Parser;
 
 fn main() {
     let args = cli::Cli::parse();
-    if let Err(err) = cli::dispatch(args) {
+    let result = cli::dispatch(args);
+    if cli::signals::interrupted() {
+        eprintln!("grime: interrupted (Ctrl-C or SIGTERM); unfinished outputs were not written");
+        std::process::exit(cli::signals::EXIT_INTERRUPTED);
+    }
+    if let Err(err) = result {
         // One line: what was wrong and how to fix it. Library errors already
         // include their cause, so a cause repeated down the chain is skipped.
         let mut line = String::new();

@@ -12,7 +12,13 @@ use serde_json::Value;
 
 /// Small images and a fast preset keep the test quick.
 const FAST: &[&str] = &["--layers", "2", "--set", "sim.max_side=128"];
-const ICC: &[u8] = b"grime test ICC profile: not a real one, but it must come back intact";
+/// A valid ICC profile (grime checks embedded ones) that is not grime's own
+/// sRGB: its manufacturer field says GRIM.
+fn icc() -> Vec<u8> {
+    let mut p = grime::io::icc::srgb().to_vec();
+    p[48..52].copy_from_slice(b"GRIM");
+    p
+}
 
 fn grime(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_grime"))
@@ -142,7 +148,7 @@ fn make_input(dir: &Path) -> Vec<&'static str> {
     });
     let mut png16 = Vec::new();
     let mut enc = PngEncoder::new(&mut png16);
-    enc.set_icc_profile(ICC.to_vec()).unwrap();
+    enc.set_icc_profile(icc()).unwrap();
     enc.write_image(
         bytemuck_u16(deep.as_raw()).as_slice(),
         40,
@@ -306,7 +312,7 @@ fn batch_ages_a_messy_folder_and_loses_nothing() {
         .unwrap();
     assert_eq!(
         dec.icc_profile().unwrap().as_deref(),
-        Some(ICC),
+        Some(&icc()[..]),
         "ICC profile kept"
     );
     let deep = DynamicImage::from_decoder(dec).unwrap();

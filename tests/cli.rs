@@ -1,56 +1,11 @@
 //! The real `grime` binary: success paths and every error case of `run`.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
+use std::process::Command;
+
+use common::{FAST, assert_clear_error, grime, photo, s, stderr};
 use image::{DynamicImage, ImageBuffer, Luma, Rgba};
-
-fn grime(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_grime"))
-        .args(args)
-        .output()
-        .expect("run grime")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// A failed run: non-zero exit, one line on stderr naming `needle`, no panic.
-fn assert_clear_error(o: &Output, needle: &str) {
-    let err = stderr(o);
-    assert!(
-        !o.status.success(),
-        "expected failure, got success; stderr: {err}"
-    );
-    assert!(
-        !err.contains("panicked") && !err.contains("RUST_BACKTRACE"),
-        "panic: {err}"
-    );
-    assert_eq!(
-        err.trim_end().lines().count(),
-        1,
-        "one line expected: {err}"
-    );
-    assert!(
-        err.to_lowercase().contains(&needle.to_lowercase()),
-        "{needle:?} not in: {err}"
-    );
-}
-
-fn photo(dir: &Path, name: &str) -> PathBuf {
-    let path = dir.join(name);
-    DynamicImage::ImageRgb8(grime::demo::facade(96, 72).photo.image().to_rgb8())
-        .save(&path)
-        .unwrap();
-    path
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-const FAST: [&str; 4] = ["--layers", "3", "--set", "sim.max_side=64"];
 
 #[test]
 fn demo_run_writes_the_aged_image() {

@@ -179,6 +179,43 @@ fn sixteen_bit_photo_layer_stays_sixteen_bit() {
     assert_eq!(png.to_rgb16(), photo);
 }
 
+/// The ICC profile of a PNG held in memory.
+fn png_icc(data: Vec<u8>) -> Option<Vec<u8>> {
+    use image::ImageDecoder;
+    let mut dec = image::codecs::png::PngDecoder::new(std::io::Cursor::new(data)).unwrap();
+    dec.icc_profile().unwrap()
+}
+
+/// Issue 13, item 18: a 16-bit photo PNG without a colour chunk stops
+/// `krita --export` at a profile prompt. The photo layer and the merged
+/// image say sRGB when the photo has no profile, and keep the photo's own.
+#[test]
+fn photo_and_merged_pngs_carry_a_profile() {
+    let dir = tempfile::tempdir().unwrap();
+    let deep = DynamicImage::ImageRgb16(ImageBuffer::from_pixel(W, H, Rgb([9000u16, 500, 1])));
+    let mut own = Photo::new(photo8());
+    own.icc = Some(grime::io::icc::srgb()[..].to_vec());
+    own.icc.as_mut().unwrap()[48] = b'X'; // a different, still valid profile
+    for (photo, want) in [
+        (Photo::new(deep), grime::io::icc::srgb().to_vec()),
+        (Photo::new(photo8()), grime::io::icc::srgb().to_vec()),
+        (own.clone(), own.icc.clone().unwrap()),
+    ] {
+        let mut st = stack(DynamicImage::ImageRgb8(photo8().to_rgb8()));
+        st.base = Arc::new(photo);
+        let path = dir.path().join("p.ora");
+        export::save(&st, &path).unwrap();
+        let mut zip = zip::ZipArchive::new(std::fs::File::open(&path).unwrap()).unwrap();
+        for name in ["data/00-photo.png", "mergedimage.png"] {
+            assert_eq!(
+                png_icc(entry(&mut zip, name)).as_ref(),
+                Some(&want),
+                "{name}"
+            );
+        }
+    }
+}
+
 #[test]
 fn missing_folder_is_a_clear_error_and_leaves_nothing() {
     let dir = tempfile::tempdir().unwrap();

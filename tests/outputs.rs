@@ -176,3 +176,31 @@ fn batch_reads_a_quad_sidecar() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("a.png") && err.contains("quad"), "{err}");
 }
+
+#[test]
+fn batch_names_a_missing_mask_as_the_mask() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    let masks = dir.path().join("masks");
+    std::fs::create_dir(&input).unwrap();
+    std::fs::create_dir(&masks).unwrap();
+    photo(&input, "a.png");
+    let out = dir.path().join("out");
+    let mut args = vec![
+        "batch",
+        "-q",
+        s(&input),
+        "-o",
+        s(&out),
+        "--masks",
+        s(&masks),
+    ];
+    args.extend_from_slice(&FAST);
+    let o = grime(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("its mask") && err.contains("a.png is missing"),
+        "{err}"
+    );
+}

@@ -12,10 +12,13 @@ Checks: depth and size; layer names bottom to top ("photo", the effect
 layers, then the hidden "region" layer when there is a region); blend modes,
 opacity bytes and visibility; every layer's pixels against its PNG; the
 merged image section and psd-tools' own compositing of the layers against
-OUT.png, within 2/255 per channel. Exits 1 with a message on any mismatch.
+OUT.png, within 2/255 per channel; the ICC profile (image resource 1039) is
+there and is sRGB for these photos without one of their own, readable by
+LittleCMS (Pillow's ImageCms). Exits 1 with a message on any mismatch.
 """
 
 import argparse
+import io
 import json
 import sys
 from pathlib import Path
@@ -23,7 +26,7 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 from psd_tools import PSDImage
-from psd_tools.constants import BlendMode
+from psd_tools.constants import BlendMode, Resource
 
 TOLERANCE = 2  # per channel, in 1/255
 
@@ -55,6 +58,16 @@ def main():
     manifest = json.loads((layers_dir / "manifest.json").read_text())
 
     check(psd.depth == args.depth, f"depth {psd.depth}, want {args.depth}")
+    icc = psd.image_resources.get_data(Resource.ICC_PROFILE)
+    check(icc is not None, "no ICC profile (image resource 1039)")
+    if icc is not None:
+        from PIL import ImageCms
+
+        try:
+            desc = ImageCms.getProfileDescription(ImageCms.ImageCmsProfile(io.BytesIO(icc)))
+            check("sRGB" in desc, f"ICC profile is {desc!r}, want sRGB")
+        except Exception as e:  # noqa: BLE001 - any LittleCMS failure is a bad profile
+            check(False, f"LittleCMS cannot read the ICC profile: {e}")
     check((psd.width, psd.height) == (manifest["width"], manifest["height"]), "canvas size")
     check(reference.shape[:2] == (psd.height, psd.width), "PNG size differs from the PSD")
 

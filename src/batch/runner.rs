@@ -167,6 +167,12 @@ pub fn run(
 /// Ages one job's image through the one entry point, creating output
 /// folders. A wall plane comes from the image's sidecar `<image>.quad`.
 fn age_job(job: &Job, preset: &Preset, progress: &Progress) -> crate::Result<()> {
+    if let Some(mask) = job.mask.as_ref().filter(|m| !m.exists()) {
+        return Err(Error::MaskMissing {
+            image: job.input.clone(),
+            mask: mask.clone(),
+        });
+    }
     let inputs = Inputs {
         mask: job.mask.clone(),
         quad: sidecar_quad(&job.input)?,

@@ -49,7 +49,8 @@ pub struct BatchArgs {
     /// memory: about N x 115 MiB for 2 MP photos.
     #[arg(short, long, value_name = "N")]
     jobs: Option<usize>,
-    /// Skip images whose outputs all exist (resume an interrupted batch).
+    /// Skip images whose outputs all exist (resume an interrupted batch), and
+    /// remove grime's temporary files orphaned in OUTPUT by a killed run.
     #[arg(long)]
     skip_existing: bool,
     /// Process only shard K of N: the images whose index in the sorted
@@ -92,6 +93,13 @@ pub fn run(args: BatchArgs) -> anyhow::Result<()> {
         masks: args.masks.clone(),
         layers_dirs: args.layers_dirs,
     };
+    if args.skip_existing {
+        // Temporary files of a killed run (SIGKILL gives no time to clean up).
+        let orphans = grime::io::temp::remove_orphans(&args.output, true);
+        if !orphans.is_empty() {
+            eprintln!("grime: removed {} orphaned temporary files", orphans.len());
+        }
+    }
     let plan = batch::plan(&args.input, &args.output, &opts)?;
     if plan.found == 0 {
         eprintln!(
@@ -115,7 +123,8 @@ pub fn run(args: BatchArgs) -> anyhow::Result<()> {
         }
         bar.inc(1);
     };
-    let summary = batch::run(&plan, &preset, args.jobs.unwrap_or(0), &on_done, None)?;
+    let cancel = Some(super::signals::cancel_flag());
+    let summary = batch::run(&plan, &preset, args.jobs.unwrap_or(0), &on_done, cancel)?;
     bar.finish_and_clear();
 
     if args.json {

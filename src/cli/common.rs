@@ -22,11 +22,20 @@ pub struct PresetFlags {
     /// Random seed (same as `--set seed=N`).
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
+    /// Refuse a photo whose run would need more memory than SIZE (e.g. 12G,
+    /// 800M). Estimated before decoding at 37 bytes per pixel; default 4G,
+    /// or the GRIME_MAX_MEMORY environment variable.
+    #[arg(long, value_name = "SIZE", value_parser = grime::io::limits::parse_size)]
+    pub max_memory: Option<u64>,
 }
 
 impl PresetFlags {
-    /// The preset after the file or name, then `--set`, `--layers`, `--seed`.
+    /// The preset after the file or name, then `--set`, `--layers`, `--seed`
+    /// (and `--max-memory` set for the process).
     pub fn resolve(&self) -> anyhow::Result<Preset> {
+        if let Some(bytes) = self.max_memory {
+            grime::io::limits::set_max_memory(bytes);
+        }
         let mut p = match &self.preset {
             None => Preset::default(),
             Some(name) if !name.ends_with(".toml") && !Path::new(name).exists() => {

@@ -6,6 +6,7 @@ mod common;
 mod gui;
 mod preset;
 mod run;
+pub mod signals;
 
 use clap::{Parser, Subcommand};
 
@@ -34,8 +35,14 @@ enum Command {
 /// Runs the chosen subcommand.
 pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
-        Command::Run(args) => run::run(args),
-        Command::Batch(args) => batch::run(args),
+        Command::Run(args) => {
+            signals::install();
+            run::run(args)
+        }
+        Command::Batch(args) => {
+            signals::install();
+            batch::run(args)
+        }
         Command::Preset(args) => preset::run(args),
         #[cfg(feature = "gui")]
         Command::Gui(args) => gui::run(args),

@@ -1,7 +1,6 @@
 //! `grime run`: age one photo.
 
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
 
 use anyhow::bail;
 use clap::Args;
@@ -91,7 +90,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         1000,
         "{spinner} {msg:8} [{bar:40}] {percent:>3}% {elapsed}",
     );
-    let cancel = AtomicBool::new(false);
+    let cancel = super::signals::cancel_flag();
     let update = |stage: &str, f: f32| {
         bar.set_message(stage.to_string());
         bar.set_position((f * 1000.0) as u64);
@@ -100,7 +99,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         &inputs,
         &preset,
         &outputs,
-        &Progress::new(Some(&update), Some(&cancel)),
+        &Progress::new(Some(&update), Some(cancel)),
     )?;
     bar.finish_and_clear();
     Ok(())

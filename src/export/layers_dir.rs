@@ -5,6 +5,11 @@
 //! [`crate::stack`]. When the stack has a region, it is written as
 //! `region.png` (greyscale, white = wall) and named by the manifest's
 //! `region` field; it is not a layer of the picture.
+//!
+//! Writing into a folder that holds an earlier run's layers removes the
+//! files that run's `manifest.json` listed and this run did not write (a
+//! run with fewer layers leaves no stale `rain-05..12`). Only names grime
+//! gives (`NN-name.png`, `region.png`) are removed; other files stay.
 
 use std::path::Path;
 
@@ -57,14 +62,10 @@ pub fn slug(name: &str) -> String {
         .collect()
 }
 
-/// Whether `name` is a file name the layers folder writes: `00-photo.png`,
-/// `NN-<layer>.png`, `region.png` or `manifest.json`.
+/// Whether `name` is a file name the layers folder writes: those of
+/// [`is_grime_name`] and `manifest.json`.
 pub fn is_own_file(name: &str) -> bool {
-    let numbered = name.len() > 7
-        && name.as_bytes()[..2].iter().all(u8::is_ascii_digit)
-        && name.as_bytes()[2] == b'-'
-        && name.ends_with(".png");
-    numbered || name == "region.png" || name == "manifest.json"
+    is_grime_name(name) || name == "manifest.json"
 }
 
 /// Writes the photo, every layer and `manifest.json` into `dir` (created if
@@ -118,6 +119,7 @@ pub fn write(stack: &Stack, dir: &Path) -> Result<Manifest> {
         region,
     };
     let path = dir.join("manifest.json");
+    let stale = listed_files(&path);
     let text = serde_json::to_string_pretty(&manifest).map_err(|e| Error::Encode {
         path: path.clone(),
         reason: e.to_string(),
@@ -125,5 +127,84 @@ pub fn write(stack: &Stack, dir: &Path) -> Result<Manifest> {
     io::write_atomic(&path, |out| {
         std::io::Write::write_all(out, text.as_bytes()).map_err(|e| Error::io(&path, e))
     })?;
+    let written: Vec<&str> = manifest
+        .layers
+        .iter()
+        .map(|l| l.file.as_str())
+        .chain(manifest.region.as_deref())
+        .collect();
+    for file in stale.iter().filter(|f| !written.contains(&f.as_str())) {
+        let old = dir.join(file);
+        match std::fs::remove_file(&old) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(Error::io(old, e)),
+            _ => {}
+        }
+    }
     Ok(manifest)
+}
+
+/// The files an existing `manifest.json` lists, keeping only names grime
+/// writes (`NN-slug.png`, `region.png`); none when there is no readable
+/// manifest.
+fn listed_files(manifest: &Path) -> Vec<String> {
+    let Ok(text) = std::fs::read_to_string(manifest) else {
+        return Vec::new();
+    };
+    let Ok(value) = serde_json::from_str::<serde_json::Value>(&text) else {
+        return Vec::new();
+    };
+    let layers = value["layers"].as_array().into_iter().flatten();
+    layers
+        .map(|l| &l["file"])
+        .chain([&value["region"]])
+        .filter_map(|f| f.as_str())
+        .filter(|f| is_grime_name(f))
+        .map(str::to_string)
+        .collect()
+}
+
+/// True for the names [`write`] gives: `region.png` and `NN-slug.png`
+/// (two digits, a slug of lowercase letters, digits and `-`).
+pub fn is_grime_name(file: &str) -> bool {
+    if file == "region.png" {
+        return true;
+    }
+    let Some(stem) = file.strip_suffix(".png") else {
+        return false;
+    };
+    let b = stem.as_bytes();
+    b.len() > 3
+        && b[..2].iter().all(u8::is_ascii_digit)
+        && b[2] == b'-'
+        && b[3..]
+            .iter()
+            .all(|&c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == b'-')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grime_names() {
+        for ok in [
+            "00-photo.png",
+            "12-rain-12.png",
+            "region.png",
+            "03-moss.png",
+        ] {
+            assert!(is_grime_name(ok), "{ok}");
+        }
+        for no in [
+            "photo.png",
+            "1-rain.png",
+            "05-Rain.png",
+            "05-rain.jpg",
+            "../05-rain.png",
+            "05-a/b.png",
+            "manifest.json",
+        ] {
+            assert!(!is_grime_name(no), "{no}");
+        }
+    }
 }

@@ -9,9 +9,11 @@
 //!    `y`, `opacity` (0..1), `visibility` (`visible`/`hidden`) and
 //!    `composite-op` (`svg:src-over` for normal, `svg:multiply`);
 //! 3. `data/*.png`: one RGBA PNG per layer at photo size (straight alpha);
-//!    the bottom layer `photo` keeps the photo's bit depth and ICC profile;
+//!    the bottom layer `photo` keeps the photo's bit depth and ICC profile
+//!    (the sRGB profile when it has none: Krita asks which profile a 16-bit
+//!    PNG without one has, which hangs `krita --export`);
 //! 4. `mergedimage.png`: the flattened image ([`Stack::composite`]), 8-bit
-//!    RGBA;
+//!    RGBA, with the same profile;
 //! 5. `Thumbnails/thumbnail.png`: the same, at most 256 px per side.
 //!
 //! As in the PSD (see [`super::psd`]), the region is a hidden top layer
@@ -58,6 +60,7 @@ struct OraLayer {
 pub fn write(stack: &Stack, path: &Path) -> Result<()> {
     let w = stack.base.width();
     let h = stack.base.height();
+    let profile = stack.base.icc.as_deref().unwrap_or(io::icc::srgb());
 
     // Encode the layer PNGs in parallel, bottom first.
     enum What<'a> {
@@ -86,7 +89,7 @@ pub fn write(stack: &Stack, path: &Path) -> Result<()> {
                     blend: BlendMode::Normal,
                     opacity: 1.0,
                     visible: true,
-                    png: png(stack.base.image(), stack.base.icc.as_deref(), path)?,
+                    png: png(stack.base.image(), Some(profile), path)?,
                 },
                 What::Layer(i, l) => OraLayer {
                     name: l.name.clone(),
@@ -118,38 +121,132 @@ pub fn write(stack: &Stack, path: &Path) -> Result<()> {
     let thumb = DynamicImage::ImageRgba8(image::imageops::thumbnail(&merged, tw, th));
     let merged = DynamicImage::ImageRgba8(merged);
     let (merged_png, thumb_png) = rayon::join(
-        || png(&merged, stack.base.icc.as_deref(), path),
+        || png(&merged, Some(profile), path),
         || png(&thumb, None, path),
     );
     let (merged_png, thumb_png) = (merged_png?, thumb_png?);
     let xml = stack_xml(w, h, &layers);
 
     io::write_atomic(path, |out| {
-        let zip_err = |e: zip::result::ZipError| Error::Encode {
-            path: path.to_path_buf(),
-            reason: format!("zip: {e}"),
-        };
-        let io_err = |e: std::io::Error| Error::io(path, e);
-        let stored = SimpleFileOptions::default().compression_method(CompressionMethod::Stored);
-        let deflated = SimpleFileOptions::default().compression_method(CompressionMethod::Deflated);
-        let mut zip = zip::ZipWriter::new(out);
-        zip.start_file("mimetype", stored).map_err(zip_err)?;
-        zip.write_all(MIMETYPE.as_bytes()).map_err(io_err)?;
-        zip.start_file("stack.xml", deflated).map_err(zip_err)?;
-        zip.write_all(xml.as_bytes()).map_err(io_err)?;
-        // PNGs are compressed already.
-        for l in &layers {
-            zip.start_file(l.src.as_str(), stored).map_err(zip_err)?;
-            zip.write_all(&l.png).map_err(io_err)?;
+        // The zip writer tries to finish the archive when dropped after an
+        // error, and prints that second failure on stderr. Once a write has
+        // failed, `Latch` keeps the error and takes every later write
+        // silently, so the first error is the one reported.
+        let mut latch = Latch::new(out);
+        let result = write_zip(&mut latch, &xml, &layers, &merged_png, &thumb_png);
+        match (latch.error.take(), result) {
+            (Some(e), _) => Err(Error::io(path, e)),
+            (None, r) => r.map_err(|e| Error::Encode {
+                path: path.to_path_buf(),
+                reason: format!("zip: {e}"),
+            }),
         }
-        zip.start_file("mergedimage.png", stored).map_err(zip_err)?;
-        zip.write_all(&merged_png).map_err(io_err)?;
-        zip.start_file("Thumbnails/thumbnail.png", stored)
-            .map_err(zip_err)?;
-        zip.write_all(&thumb_png).map_err(io_err)?;
-        zip.finish().map_err(zip_err)?;
-        Ok(())
     })
+}
+
+/// The archive's entries in the order the specification asks.
+fn write_zip<W: Write + std::io::Seek>(
+    out: W,
+    xml: &str,
+    layers: &[OraLayer],
+    merged_png: &[u8],
+    thumb_png: &[u8],
+) -> zip::result::ZipResult<()> {
+    let stored = SimpleFileOptions::default().compression_method(CompressionMethod::Stored);
+    let deflated = SimpleFileOptions::default().compression_method(CompressionMethod::Deflated);
+    let mut zip = zip::ZipWriter::new(out);
+    zip.start_file("mimetype", stored)?;
+    zip.write_all(MIMETYPE.as_bytes())?;
+    zip.start_file("stack.xml", deflated)?;
+    zip.write_all(xml.as_bytes())?;
+    // PNGs are compressed already.
+    for l in layers {
+        zip.start_file(l.src.as_str(), stored)?;
+        zip.write_all(&l.png)?;
+    }
+    zip.start_file("mergedimage.png", stored)?;
+    zip.write_all(merged_png)?;
+    zip.start_file("Thumbnails/thumbnail.png", stored)?;
+    zip.write_all(thumb_png)?;
+    zip.finish()?;
+    Ok(())
+}
+
+/// A writer that remembers its first error and from then on takes every
+/// write and seek without touching `inner`, keeping only the position.
+struct Latch<W> {
+    inner: W,
+    error: Option<std::io::Error>,
+    /// Position and furthest end, tracked for the seeks after an error.
+    pos: u64,
+    end: u64,
+}
+
+impl<W> Latch<W> {
+    fn new(inner: W) -> Self {
+        Latch {
+            inner,
+            error: None,
+            pos: 0,
+            end: 0,
+        }
+    }
+
+    fn moved(&mut self, pos: u64) {
+        self.pos = pos;
+        self.end = self.end.max(pos);
+    }
+
+    fn failed(&mut self, e: &std::io::Error) {
+        self.error = Some(std::io::Error::new(e.kind(), e.to_string()));
+    }
+}
+
+impl<W: Write> Write for Latch<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if self.error.is_none() {
+            match self.inner.write(buf) {
+                Ok(n) => {
+                    self.moved(self.pos + n as u64);
+                    return Ok(n);
+                }
+                Err(e) => self.failed(&e),
+            }
+        }
+        self.moved(self.pos + buf.len() as u64);
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        if self.error.is_none()
+            && let Err(e) = self.inner.flush()
+        {
+            self.failed(&e);
+        }
+        Ok(())
+    }
+}
+
+impl<W: std::io::Seek> std::io::Seek for Latch<W> {
+    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+        use std::io::SeekFrom;
+        if self.error.is_none() {
+            match self.inner.seek(pos) {
+                Ok(p) => {
+                    self.moved(p);
+                    return Ok(p);
+                }
+                Err(e) => self.failed(&e),
+            }
+        }
+        let to = match pos {
+            SeekFrom::Start(n) => n,
+            SeekFrom::Current(d) => self.pos.saturating_add_signed(d),
+            SeekFrom::End(d) => self.end.saturating_add_signed(d),
+        };
+        self.pos = to;
+        Ok(to)
+    }
 }
 
 /// The size of the thumbnail: the photo scaled to fit 256 x 256, at least 1
@@ -235,6 +332,55 @@ mod tests {
         assert_eq!(thumbnail_size(960, 720), (256, 192));
         assert_eq!(thumbnail_size(100, 50), (100, 50));
         assert_eq!(thumbnail_size(4000, 3), (256, 1));
+    }
+
+    /// Fails every write once `room` bytes are taken, like a full disk.
+    struct Full {
+        data: std::io::Cursor<Vec<u8>>,
+        room: usize,
+    }
+
+    impl Write for Full {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            if self.data.get_ref().len() + buf.len() > self.room {
+                return Err(std::io::Error::from_raw_os_error(28)); // ENOSPC
+            }
+            self.data.write(buf)
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    impl std::io::Seek for Full {
+        fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+            self.data.seek(pos)
+        }
+    }
+
+    #[test]
+    fn a_full_disk_gives_its_own_error_once() {
+        let layer = |i: usize| OraLayer {
+            name: format!("l{i}"),
+            src: format!("data/{i}.png"),
+            blend: BlendMode::Normal,
+            opacity: 1.0,
+            visible: true,
+            png: vec![7; 3000],
+        };
+        let layers: Vec<_> = (0..4).map(layer).collect();
+        for room in [0, 10, 100, 5000, 12_000] {
+            let mut latch = Latch::new(Full {
+                data: Default::default(),
+                room,
+            });
+            let r = write_zip(&mut latch, "<image/>", &layers, &[1; 100], &[2; 10]);
+            // The zip writer saw only successes after the failure, so its
+            // drop has nothing to print; the first error is kept.
+            assert!(r.is_ok(), "{r:?}");
+            let err = latch.error.expect("the write failed");
+            assert!(err.to_string().contains("No space left"), "{err}");
+        }
     }
 
     #[test]

@@ -21,7 +21,8 @@
 //! - The merged image section is [`Stack::composite`], RLE compressed, so
 //!   viewers that ignore layers show the aged result. An alpha channel in the
 //!   photo becomes the merged image's transparency (negative layer count).
-//! - The photo's ICC profile, if any, as image resource 1039.
+//! - The photo's ICC profile as image resource 1039; the sRGB profile
+//!   ([`io::icc::srgb`]) when the photo has none.
 //!
 //! The PSD format allows at most 30000 pixels per side; larger stacks are
 //! refused with [`Error::Encode`] (write `.ora` instead).
@@ -234,7 +235,10 @@ impl Document {
         head.put_u16(3); // RGB
         head.put_u32(0); // no colour mode data
         let mut resources = Vec::new();
-        if let Some(icc) = &stack.base.icc {
+        // Without a profile Krita opens a 16-bit PSD as linear light: say
+        // sRGB (issue 13, item 17).
+        {
+            let icc = stack.base.icc.as_deref().unwrap_or(io::icc::srgb());
             resources.extend_from_slice(b"8BIM");
             resources.put_u16(1039); // ICC profile
             resources.put_u16(0); // empty name, padded to even

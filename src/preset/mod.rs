@@ -551,6 +551,18 @@ impl Preset {
                 "--set: unknown field {key:?}; see `grime preset default`"
             ))
         })?;
+        // A whole number TOML cannot hold (past i64) is out of range, not a
+        // string of the wrong type.
+        if matches!(parsed, toml::Value::String(_)) && is_integer_text(raw) {
+            return Err(Error::OutOfRange {
+                field: key.to_string(),
+                value: raw.to_string(),
+                range: match param(key) {
+                    Some(spec) if key != "seed" => format!("{} ..= {}", spec.min, spec.max),
+                    _ => format!("0 ..= {}", i64::MAX),
+                },
+            });
+        }
         // Keep floats floats: `--set rain.k_a=1` means 1.0.
         *slot = match (&*slot, parsed) {
             (toml::Value::Float(_), toml::Value::Integer(i)) => toml::Value::Float(i as f64),
@@ -590,6 +602,12 @@ impl Preset {
         }
         out
     }
+}
+
+/// True for `123`, `-4`, `+5_000`: digits with an optional sign.
+fn is_integer_text(raw: &str) -> bool {
+    let digits = raw.strip_prefix(['-', '+']).unwrap_or(raw);
+    !digits.is_empty() && digits.chars().all(|c| c.is_ascii_digit() || c == '_')
 }
 
 fn push_field(out: &mut String, path: &str, key: &str, v: &toml::Value) {
@@ -712,105 +730,4 @@ pub fn builtin(name: &str) -> Result<Preset> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Dotted paths of every numeric leaf below `v`; array elements share
-    /// their array's path, so a list of segments gives `….alpha` once per item.
-    fn numeric_leaves(v: &toml::Value, path: &str, out: &mut Vec<String>) {
-        match v {
-            toml::Value::Integer(_) | toml::Value::Float(_) => out.push(path.to_string()),
-            toml::Value::Array(items) => items.iter().for_each(|i| numeric_leaves(i, path, out)),
-            toml::Value::Table(t) => {
-                for (k, child) in t {
-                    let p = if path.is_empty() {
-                        k.clone()
-                    } else {
-                        format!("{path}.{k}")
-                    };
-                    numeric_leaves(child, &p, out);
-                }
-            }
-            _ => {}
-        }
-    }
-
-    #[test]
-    fn every_parameter_has_a_spec() {
-        // The default preset, plus the custom dust lists filled in so their
-        // leaves are seen too.
-        let mut p = Preset::default();
-        p.dust.environment = DustEnvironment::Custom;
-        p.dust.film_segments = vec![Segment::new(5, 11.1, 5.1), Segment::new(0, 2.8, 0.0)];
-        p.dust.mask_segments = vec![Segment::new(0, 1.3, 0.3)];
-        p.validate().unwrap();
-        let mut paths = Vec::new();
-        numeric_leaves(&toml::Value::try_from(&p).unwrap(), "", &mut paths);
-        assert!(
-            paths.iter().any(|p| p == "dust.film_segments.alpha"),
-            "{paths:?}"
-        );
-        let missing: Vec<_> = paths.iter().filter(|p| param(p).is_none()).collect();
-        assert!(
-            missing.is_empty(),
-            "parameters without a PARAMS entry: {missing:?}"
-        );
-        for spec in PARAMS {
-            assert!(
-                !spec.doc.is_empty() && spec.min <= spec.max,
-                "{}",
-                spec.path
-            );
-        }
-    }
-
-    #[test]
-    fn moss_and_dust_sections_round_trip_and_validate() {
-        let mut p = Preset::default();
-        p.set("moss.color=orange").unwrap();
-        p.set("dust.environment=steep-start").unwrap();
-        p.set("dust.days=200").unwrap();
-        assert_eq!(p.moss.color, MossColor::Orange);
-        let back = Preset::from_toml(&p.to_toml()).unwrap();
-        assert_eq!(back, p);
-        assert!(
-            p.to_commented_toml()
-                .contains("# Days of dust accumulation")
-        );
-        let (film, mask) = p.dust.segments();
-        assert_eq!((film.len(), mask.len()), (2, 1));
-    }
-
-    #[test]
-    fn array_elements_and_custom_segments_are_checked() {
-        let mut p = Preset::default();
-        p.dust.film_weights = [1.0, -0.5, 1.0];
-        let e = p.validate().unwrap_err().to_string();
-        assert!(e.contains("dust.film_weights"), "{e}");
-
-        let mut p = Preset::default();
-        p.dust.environment = DustEnvironment::Custom;
-        assert!(
-            p.validate()
-                .unwrap_err()
-                .to_string()
-                .contains("dust.film_segments")
-        );
-        p.dust.film_segments = vec![Segment::new(0, -1.0, 0.0)];
-        p.dust.mask_segments = vec![Segment::new(0, 1.0, 0.0)];
-        assert!(
-            p.validate()
-                .unwrap_err()
-                .to_string()
-                .contains("dust.film_segments.alpha")
-        );
-
-        let mut p = Preset::default();
-        p.dust.mask_segments = vec![Segment::new(0, 1.0, 0.0)];
-        assert!(
-            p.validate().unwrap_err().to_string().contains("custom"),
-            "ignored lists are an error"
-        );
-        assert!(Preset::default().set("moss.color=purple").is_err());
-    }
-}
+mod tests;

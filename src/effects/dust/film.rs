@@ -132,6 +132,50 @@ impl Film {
         Ok(placed)
     }
 
+    /// Lands `n` particles at once: each wall pixel and grey gets a
+    /// Poisson(n / (wall pixels x greys)) count, the limit of `n` uniform
+    /// draws (Santos sec. 5.2) when `n` is many per pixel. Costs one draw per
+    /// pixel and grey however large `n` is. Rows use their own streams
+    /// (`key`, row), so the result does not depend on the thread count.
+    /// Returns how many landed.
+    pub(crate) fn place_bulk(
+        &mut self,
+        region: &Region,
+        n: u64,
+        seed: u64,
+        key: u64,
+        progress: &Progress,
+    ) -> Result<u64> {
+        progress.check()?;
+        let area = region.area().max(1);
+        let lambda = n as f64 / (area as f64 * COLORS as f64);
+        let Ok(poisson) = rand_distr::Poisson::new(lambda) else {
+            return Ok(0);
+        };
+        let row_len = self.width as usize * COLORS;
+        Ok(self
+            .counts
+            .par_chunks_mut(row_len.max(1))
+            .enumerate()
+            .map(|(y, row)| {
+                let mut rng = random::rng(seed, Stream::DustFilm, key, y as u64);
+                let mut landed = 0u64;
+                for (x, px) in row.chunks_exact_mut(COLORS).enumerate() {
+                    if !region.contains(x as f32 + 0.5, y as f32 + 0.5) {
+                        continue;
+                    }
+                    for c in px {
+                        let k: f64 = rand_distr::Distribution::sample(&poisson, &mut rng);
+                        let k = k.min(u16::MAX as f64) as u16;
+                        *c = c.saturating_add(k);
+                        landed += k as u64;
+                    }
+                }
+                landed
+            })
+            .sum())
+    }
+
     /// The counts of row `y`, `COLORS` per pixel.
     pub fn row(&self, y: u32) -> &[u16] {
         let n = self.width as usize * COLORS;

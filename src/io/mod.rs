@@ -7,7 +7,7 @@
 //! half-written file, and an input is never overwritten.
 
 use std::fs::File;
-use std::io::{BufReader, BufWriter, Write};
+use std::io::{BufReader, BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -15,6 +15,27 @@ use image::{DynamicImage, GrayImage, ImageDecoder, ImageEncoder, ImageError, Ima
 
 use crate::error::{Error, Result};
 use crate::photo::Photo;
+
+pub mod icc;
+pub mod limits;
+pub mod sniff;
+pub mod temp;
+
+/// A byte count for people: `512 B`, `3.2 MiB`, `8.8 GiB`.
+pub fn human_bytes(n: u64) -> String {
+    const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
+    let mut v = n as f64;
+    let mut unit = 0;
+    while v >= 1024.0 && unit + 1 < UNITS.len() {
+        v /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 {
+        format!("{n} B")
+    } else {
+        format!("{v:.1} {}", UNITS[unit])
+    }
+}
 
 /// Largest image grime decodes, in pixels (about 16k x 16k).
 pub const MAX_PIXELS: u64 = 268_435_456;
@@ -98,43 +119,51 @@ fn decode_error(path: &Path, e: ImageError) -> Error {
     }
 }
 
-/// Decodes an image file: format from its content, EXIF orientation applied,
-/// ICC profile kept.
+/// Decodes an image file: format from its first bytes, EXIF orientation
+/// applied, ICC profile checked and kept.
 ///
 /// # Errors
-/// [`Error::Io`] if the file cannot be opened, [`Error::UnknownFormat`] for
-/// a file that is no known image, [`Error::Decode`] for a corrupt one,
-/// [`Error::TooLarge`] past the decoding limits.
+/// [`Error::Io`] if the file cannot be opened, [`Error::NotAnImage`] or
+/// [`Error::UnsupportedInput`] for a file that is no PNG, JPEG, TIFF or WebP
+/// whatever its extension, [`Error::Decode`] for a corrupt one,
+/// [`Error::TooLarge`] past the decoding limits, [`Error::BadIcc`] for an
+/// oversized or damaged colour profile.
 pub fn load_image(path: &Path) -> Result<(DynamicImage, Option<Vec<u8>>)> {
-    let file = File::open(path).map_err(|e| Error::io(path, e))?;
-    let mut reader = ImageReader::new(BufReader::new(file))
-        .with_guessed_format()
+    load_image_checked(path, |_, _| Ok(()))
+}
+
+/// [`load_image`], calling `check(width, height)` once the size is known and
+/// before any pixel is decoded.
+///
+/// # Errors
+/// As [`load_image`], and whatever `check` returns.
+pub fn load_image_checked(
+    path: &Path,
+    check: impl FnOnce(u32, u32) -> Result<()>,
+) -> Result<(DynamicImage, Option<Vec<u8>>)> {
+    let mut file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut head = Vec::with_capacity(16);
+    (&mut file)
+        .take(16)
+        .read_to_end(&mut head)
         .map_err(|e| Error::io(path, e))?;
-    if reader.format().is_none() {
-        return Err(
-            if std::fs::metadata(path)
-                .map(|m| m.len() == 0)
-                .unwrap_or(false)
-            {
-                Error::Decode {
-                    path: path.to_path_buf(),
-                    reason: "the file is empty".into(),
-                }
-            } else {
-                Error::UnknownFormat {
-                    path: path.to_path_buf(),
-                }
-            },
-        );
+    let format = sniff::format(path, &head)?;
+    match format {
+        image::ImageFormat::Png => sniff::check_png_icc(path)?,
+        image::ImageFormat::Tiff => sniff::check_tiff_tags(path)?,
+        image::ImageFormat::Jpeg => {
+            // The JPEG decoder fills a truncated scan with grey instead of failing.
+            let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+            jpeg_complete(&data).map_err(|reason| Error::Decode {
+                path: path.to_path_buf(),
+                reason,
+            })?;
+        }
+        _ => {}
     }
-    if reader.format() == Some(image::ImageFormat::Jpeg) {
-        // The JPEG decoder fills a truncated scan with grey instead of failing.
-        let data = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        jpeg_complete(&data).map_err(|reason| Error::Decode {
-            path: path.to_path_buf(),
-            reason,
-        })?;
-    }
+    file.seek(SeekFrom::Start(0))
+        .map_err(|e| Error::io(path, e))?;
+    let mut reader = ImageReader::with_format(BufReader::new(file), format);
     reader.limits(limits());
     let mut decoder = reader.into_decoder().map_err(|e| decode_error(path, e))?;
     let (w, h) = decoder.dimensions();
@@ -145,7 +174,29 @@ pub fn load_image(path: &Path) -> Result<(DynamicImage, Option<Vec<u8>>)> {
             max_pixels: MAX_PIXELS,
         });
     }
+    check(w, h)?;
+    // Now that the size is known, no buffer may be much larger than the
+    // image: a crafted file cannot make the decoder allocate the 2 GiB the
+    // format-blind limit allowed (a TIFF claiming a 250 MB strip for a 40 x
+    // 30 image did).
+    let mut tight = limits();
+    tight.max_alloc = Some(
+        decoder
+            .total_bytes()
+            .saturating_mul(2)
+            .saturating_add(16 << 20)
+            .min(MAX_PIXELS * 8),
+    );
+    decoder
+        .set_limits(tight)
+        .map_err(|e| decode_error(path, e))?;
     let icc = decoder.icc_profile().ok().flatten();
+    if let Some(profile) = &icc {
+        icc::check(profile).map_err(|reason| Error::BadIcc {
+            path: path.to_path_buf(),
+            reason,
+        })?;
+    }
     let orientation = decoder
         .orientation()
         .unwrap_or(image::metadata::Orientation::NoTransforms);
@@ -208,32 +259,60 @@ pub fn jpeg_complete(data: &[u8]) -> std::result::Result<(), String> {
     }
 }
 
-/// Loads a photo (see [`load_image`]).
+/// Loads a photo (see [`load_image`]), first checking that ageing it fits
+/// the memory limit ([`limits::check`]).
 ///
 /// # Errors
-/// As [`load_image`].
+/// As [`load_image`], plus [`Error::MemoryLimit`].
 pub fn load_photo(path: &Path) -> Result<Photo> {
-    let (img, icc) = load_image(path)?;
+    let (img, icc) = load_image_checked(path, |w, h| limits::check(path, w, h))?;
     let mut photo = Photo::new(img);
     photo.icc = icc;
     Ok(photo)
 }
 
-/// Loads a region mask (greyscale; white = wall) that must match `w` x `h`.
+/// Loads a region mask (white = wall) that must match `w` x `h`.
+///
+/// The mask is its grey level, except when its colour is the same
+/// everywhere and only its alpha varies (a wall painted as opacity): then
+/// the alpha is the mask (opaque = wall).
 ///
 /// # Errors
 /// As [`load_image`], plus [`Error::MaskSize`] when the size differs.
 pub fn load_mask(path: &Path, w: u32, h: u32) -> Result<GrayImage> {
-    let (img, _) = load_image(path)?;
-    if img.width() != w || img.height() != h {
-        return Err(Error::MaskSize {
-            mask_w: img.width(),
-            mask_h: img.height(),
-            img_w: w,
-            img_h: h,
-        });
+    // The size is checked before decoding, so a mask claiming a huge size
+    // allocates nothing.
+    let (img, _) = load_image_checked(path, |mask_w, mask_h| {
+        if (mask_w, mask_h) == (w, h) {
+            Ok(())
+        } else {
+            Err(Error::MaskSize {
+                mask_w,
+                mask_h,
+                img_w: w,
+                img_h: h,
+            })
+        }
+    })?;
+    Ok(mask_values(&img))
+}
+
+/// The mask values of a decoded mask image (see [`load_mask`]).
+pub fn mask_values(img: &DynamicImage) -> GrayImage {
+    if img.color().has_alpha() {
+        let la = img.to_luma_alpha8();
+        let mut px = la.pixels();
+        if let Some(first) = px.next() {
+            let uniform_grey = px.clone().all(|p| p[0] == first[0]);
+            let alpha_varies = px.any(|p| p[1] != first[1]);
+            if uniform_grey && alpha_varies {
+                return GrayImage::from_fn(la.width(), la.height(), |x, y| {
+                    image::Luma([la.get_pixel(x, y)[1]])
+                });
+            }
+        }
     }
-    Ok(img.to_luma8())
+    img.to_luma8()
 }
 
 /// True when `a` and `b` name the same existing file (or the same path).
@@ -276,6 +355,7 @@ pub fn write_atomic(
         std::process::id(),
         TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
     ));
+    temp::register(&tmp);
     let result = (|| {
         let file = File::create(&tmp).map_err(|e| Error::io(&tmp, e))?;
         let mut out = BufWriter::new(file);
@@ -289,11 +369,13 @@ pub fn write_atomic(
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
+    temp::unregister(&tmp);
     result
 }
 
 /// Encodes `img` in `format` (PNG/JPEG/TIFF/WebP) to `out`, embedding `icc`
-/// where the format allows. 16-bit images stay 16-bit in PNG and TIFF.
+/// where the format allows. 16-bit images stay 16-bit in PNG and TIFF; a
+/// 16-bit PNG without `icc` gets the sRGB profile ([`icc::srgb`]).
 ///
 /// # Errors
 /// [`Error::Encode`] if the encoder fails, [`Error::UnknownFormat`] for a
@@ -316,9 +398,13 @@ pub fn encode(
         e
     }
     match format {
-        Format::Png => img
-            .write_with_encoder(with_icc(image::codecs::png::PngEncoder::new(out), icc))
-            .map_err(enc_err),
+        Format::Png => {
+            // A 16-bit PNG without a colour chunk opens as linear light in
+            // Krita: say sRGB (issue 13, item 17).
+            let icc = icc.or(is_16bit(img).then(icc::srgb));
+            img.write_with_encoder(with_icc(image::codecs::png::PngEncoder::new(out), icc))
+                .map_err(enc_err)
+        }
         Format::Jpeg => {
             let rgb = DynamicImage::ImageRgb8(img.to_rgb8());
             rgb.write_with_encoder(with_icc(
@@ -352,6 +438,17 @@ pub fn encode(
             path: path.to_path_buf(),
         }),
     }
+}
+
+/// True for 16 bits per channel.
+pub fn is_16bit(img: &DynamicImage) -> bool {
+    matches!(
+        img,
+        DynamicImage::ImageLuma16(_)
+            | DynamicImage::ImageLumaA16(_)
+            | DynamicImage::ImageRgb16(_)
+            | DynamicImage::ImageRgba16(_)
+    )
 }
 
 /// Saves a flat image atomically in the format the extension names.
