@@ -1378,17 +1378,17 @@ impl GrimeApp {
                     l.rgb = Some(l.photo.image().to_rgb8());
                 }
                 self.mask_op(|mask, l| match &shape {
-                    MaskShape::Rect(a, b) => tools::fill_rect(mask, *a, *b, mode),
-                    MaskShape::Polygon(pts) => tools::fill_polygon(mask, pts, mode),
+                    MaskShape::Rect(a, b) => crate::masks::fill_rect(mask, *a, *b, mode),
+                    MaskShape::Polygon(pts) => crate::masks::fill_polygon(mask, pts, mode),
                     MaskShape::Wand(p) => l
                         .rgb
                         .as_ref()
-                        .and_then(|rgb| tools::wand(rgb, mask, *p, tol, mode)),
+                        .and_then(|rgb| crate::masks::wand(rgb, mask, *p, tol, mode)),
                 });
             }
-            Command::MaskInvert => self.mask_op(|m, _| Some(tools::invert(m))),
-            Command::MaskClear => self.mask_op(|m, _| Some(tools::fill_all(m, 0))),
-            Command::MaskFill => self.mask_op(|m, _| Some(tools::fill_all(m, 255))),
+            Command::MaskInvert => self.mask_op(|m, _| Some(crate::masks::invert(m))),
+            Command::MaskClear => self.mask_op(|m, _| Some(crate::masks::fill_all(m, 0))),
+            Command::MaskFill => self.mask_op(|m, _| Some(crate::masks::fill_all(m, 255))),
             Command::SetLines { lines, before } => {
                 let Some(l) = &mut self.loaded else { return };
                 if let Some(before) = before {
@@ -1412,7 +1412,7 @@ impl GrimeApp {
             }
             Command::DetectLedges => {
                 let Some(l) = &self.loaded else { return };
-                let found = tools::detect_ledges(&l.proxy.photo, Some(&l.proxy.mask));
+                let found = crate::ledges::detect(&l.proxy.photo, Some(&l.proxy.mask));
                 let (sx, sy) = (l.proxy.sx, l.proxy.sy);
                 let mut lines = l.doc.lines.clone();
                 let mut added = 0;
