@@ -277,7 +277,7 @@ impl GrimeApp {
 
     /// The proxy mask.
     pub fn proxy_mask(&self) -> Option<&GrayImage> {
-        self.loaded.as_ref().map(|l| &l.proxy.mask)
+        self.loaded.as_ref().map(|l| &*l.proxy.mask)
     }
 
     /// True while a preview or export is computing or pending.
@@ -488,26 +488,10 @@ impl GrimeApp {
         self.preview.dirty = false;
         let p = &self.preview;
         let doc = &l.doc;
-        let only_rain = |c: &Preview| {
-            c.stack
-                .layers
-                .iter()
-                .all(|l| render::is_rain_layer(&l.name))
-        };
         let need_sim = match (&p.running, &p.current) {
-            (Some(r), c) => {
-                r.rev != l.rev
-                    || render::needs_simulation(
-                        &r.preset,
-                        &doc.preset,
-                        c.as_ref().is_some_and(only_rain),
-                    )
-            }
+            (Some(r), _) => r.rev != l.rev || !render::restyles(&r.preset, &doc.preset),
             (None, _) if p.sim_failed => p.sim_rev != l.rev || p.sim_preset != doc.preset,
-            (None, Some(c)) => {
-                p.sim_rev != l.rev
-                    || render::needs_simulation(&p.sim_preset, &doc.preset, only_rain(c))
-            }
+            (None, Some(_)) => p.sim_rev != l.rev || !render::restyles(&p.sim_preset, &doc.preset),
             (None, None) => true,
         };
         let styled = p
@@ -1572,25 +1556,19 @@ impl GrimeApp {
         let Some(l) = &self.loaded else {
             return self.error("nothing to export: open an image first");
         };
-        if let Err(e) = io::Format::from_path(&path) {
-            return self.error(format!("cannot export: {e}"));
-        }
-        if let ImageSource::File(src) = &l.doc.source
-            && io::same_file(src, &path)
-        {
-            return self.error(format!(
-                "cannot export: {} is the input photo; choose another file",
-                path.display()
-            ));
-        }
+        let from = match &l.doc.source {
+            ImageSource::File(p) => vec![p.clone()],
+            ImageSource::Demo(_) => Vec::new(),
+        };
+        let scene = Scene::shared(Arc::clone(&l.photo), Some(Arc::new(l.doc.mask.clone())))
+            .and_then(|s| s.with_quad(l.doc.quad));
+        let scene = match scene {
+            Ok(s) => s,
+            Err(e) => return self.error(format!("cannot export: {e}")),
+        };
         let job = ExportJob {
-            scene: Scene {
-                photo: Arc::clone(&l.photo),
-                region: Some(Arc::new(l.doc.mask.clone())),
-                normals: None,
-                quad: None,
-            },
-            quad: l.doc.quad,
+            scene,
+            from,
             preset: l.doc.run_preset(),
             layers: l.doc.layers.clone(),
             path: path.clone(),

@@ -22,6 +22,7 @@ pub mod canvas;
 pub mod command;
 pub mod history;
 pub mod panels;
+pub mod proxy;
 pub mod render;
 pub mod state;
 pub mod tools;
