@@ -8,7 +8,7 @@ use crate::perspective::Quad;
 use crate::preset::SourceLine;
 
 use super::state::LayerSetting;
-use super::tools::{MaskMode, Tool};
+use super::tools::{MaskMode, Tool, ToolSettings};
 
 /// A shape that fills part of the mask.
 #[derive(Debug, Clone, PartialEq)]
@@ -180,6 +180,15 @@ pub enum Command {
     Redo,
     /// Choose a tool.
     SetTool(Tool),
+    /// Tool options (brush size and hardness, wand tolerance, add or
+    /// subtract).
+    SetTools(ToolSettings),
+    /// Show the photo without weathering.
+    ShowOriginal(bool),
+    /// Show the region overlay.
+    ShowMask(bool),
+    /// Hide the status bar message.
+    DismissMessage,
     /// Fit the image to the canvas.
     FitView,
     /// Close the window.

@@ -18,13 +18,21 @@
 //!   parameter, time and layer panels.
 
 pub mod app;
+pub mod automation;
 pub mod canvas;
 pub mod command;
+pub mod controller;
+pub mod files;
 pub mod history;
+pub mod menu;
 pub mod panels;
+pub mod preview;
+pub mod prompt;
 pub mod proxy;
 pub mod render;
 pub mod state;
+pub mod status;
+pub mod toolbar;
 pub mod tools;
 pub mod worker;
 
