@@ -119,6 +119,40 @@ pub fn detect(photo: &Photo, mask: Option<&GrayImage>) -> Vec<SourceLine> {
     lines
 }
 
+/// The lines of `found` that repeat none of `existing`: a found line
+/// repeats one when it overlaps it horizontally and lies within `tolerance`
+/// pixels of its mean height. Found lines are level (see [`detect`]).
+///
+/// ```
+/// let old = vec![vec![[0.0, 10.0], [50.0, 10.0]]];
+/// let found = vec![vec![[5.0, 12.0], [40.0, 12.0]], vec![[5.0, 40.0], [40.0, 40.0]]];
+/// assert_eq!(grime::ledges::not_in(&old, found, 6.0).len(), 1);
+/// ```
+pub fn not_in(
+    existing: &[SourceLine],
+    found: impl IntoIterator<Item = SourceLine>,
+    tolerance: f32,
+) -> Vec<SourceLine> {
+    let mut kept: Vec<SourceLine> = Vec::new();
+    for line in found {
+        let (Some(first), Some(last)) = (line.first(), line.last()) else {
+            continue;
+        };
+        let (y, x0, x1) = (first[1], first[0], last[0]);
+        let repeats = existing.iter().chain(&kept).any(|o| {
+            let oy = o.iter().map(|p| p[1]).sum::<f32>() / o.len().max(1) as f32;
+            let (ox0, ox1) = o
+                .iter()
+                .fold((f32::MAX, f32::MIN), |(a, b), p| (a.min(p[0]), b.max(p[0])));
+            (y - oy).abs() < tolerance && x0 < ox1 && x1 > ox0
+        });
+        if !repeats {
+            kept.push(line);
+        }
+    }
+    kept
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -17,9 +17,9 @@ use super::command::{Command, MaskShape, PromptKind};
 use super::files::{FileDone, FileJob, Files};
 use super::history::{Edit, History, MaskPatch, Touched};
 use super::preview::{Polled, Scheduler};
-use super::proxy::{PROXY_PIXELS, Proxy};
+use super::proxy::Proxy;
 use super::render::{self, ExportJob, Exported};
-use super::state::{Document, ImageSource};
+use super::state::Document;
 use super::tools::{self, PixelRect, Tool, ToolSettings};
 use super::worker::{Repaint, Worker};
 
@@ -346,7 +346,8 @@ impl Controller {
     pub fn apply(&mut self, cmd: Command) {
         match cmd {
             Command::Prompt(kind) => {
-                self.requests.prompt = Some((kind, self.suggest_path(kind)));
+                let source = self.loaded.as_ref().map(|l| &l.doc.source);
+                self.requests.prompt = Some((kind, kind.suggest(source)));
             }
             Command::OpenImage(path) => {
                 if path
@@ -545,30 +546,15 @@ impl Controller {
     /// on the proxy, skipping those that repeat a line already there.
     fn detect_ledges(&mut self) {
         let Some(l) = &self.loaded else { return };
-        let found = crate::ledges::detect(&l.proxy.photo, Some(&*l.proxy.mask));
         let (sx, sy) = (l.proxy.sx, l.proxy.sy);
-        let mut lines = l.doc.lines.clone();
-        let mut added = 0;
-        for line in found {
-            let line: Vec<[f32; 2]> = line.iter().map(|p| [p[0] / sx, p[1] / sy]).collect();
-            let dup = lines.iter().any(|o| {
-                let (y, oy) = (
-                    line[0][1],
-                    o.iter().map(|p| p[1]).sum::<f32>() / o.len().max(1) as f32,
-                );
-                let (x0, x1) = (line[0][0], line[line.len() - 1][0]);
-                let (ox0, ox1) = o
-                    .iter()
-                    .fold((f32::MAX, f32::MIN), |(a, b), p| (a.min(p[0]), b.max(p[0])));
-                (y - oy).abs() < 6.0 / sy && x0 < ox1 && x1 > ox0
-            });
-            if !dup {
-                lines.push(line);
-                added += 1;
-            }
-        }
+        let found = crate::ledges::detect(&l.proxy.photo, Some(&*l.proxy.mask))
+            .into_iter()
+            .map(|line| line.iter().map(|p| [p[0] / sx, p[1] / sy]).collect());
+        let new = crate::ledges::not_in(&l.doc.lines, found, 6.0 / sy);
+        let added = new.len();
         if added > 0 {
             let before = l.doc.lines.clone();
+            let lines = before.iter().cloned().chain(new).collect();
             self.apply(Command::SetLines {
                 lines,
                 before: Some(before),
@@ -630,32 +616,5 @@ impl Controller {
         self.export.worker.submit(job);
         self.export.running = Some(path.clone());
         self.info(format!("Exporting {} at full resolution…", path.display()));
-    }
-
-    fn suggest_path(&self, kind: PromptKind) -> String {
-        let (dir, stem) = match self.loaded.as_ref().map(|l| &l.doc.source) {
-            Some(ImageSource::File(p)) => (
-                p.parent().map(Path::to_path_buf).unwrap_or_default(),
-                p.file_stem()
-                    .map_or_else(|| "facade".into(), |s| s.to_string_lossy().into_owned()),
-            ),
-            Some(ImageSource::Demo(n)) => (std::env::current_dir().unwrap_or_default(), n.clone()),
-            None => (std::env::current_dir().unwrap_or_default(), "facade".into()),
-        };
-        let file = match kind {
-            PromptKind::OpenImage | PromptKind::OpenProject | PromptKind::LoadPreset => {
-                return String::new();
-            }
-            PromptKind::SaveProject => format!("{stem}.grime.json"),
-            PromptKind::SavePreset => format!("{stem}.toml"),
-            PromptKind::Export => format!("{stem}-aged.png"),
-        };
-        dir.join(file).display().to_string()
-    }
-}
-
-impl Default for Controller {
-    fn default() -> Self {
-        Controller::new(Preset::default(), PROXY_PIXELS, Arc::new(|| {}))
     }
 }
