@@ -10,18 +10,18 @@ use std::sync::Arc;
 use image::{GrayImage, RgbImage};
 
 use crate::photo::Photo;
-use crate::pipeline::Scene;
 use crate::preset::{self, Preset};
 
 use super::command::{Command, MaskShape, PromptKind};
+use super::exporter::Exporter;
 use super::files::{FileDone, FileJob, Files};
 use super::history::{Edit, History, MaskPatch, Touched};
 use super::preview::{Polled, Scheduler};
 use super::proxy::Proxy;
-use super::render::{self, ExportJob, Exported};
+use super::render::Exported;
 use super::state::Document;
 use super::tools::{self, PixelRect, Tool, ToolSettings};
-use super::worker::{Repaint, Worker};
+use super::worker::{Repaint, Status};
 
 /// The open photo and everything derived from it.
 pub struct Loaded {
@@ -85,13 +85,6 @@ pub struct ViewRequests {
     pub quit: bool,
 }
 
-/// The export worker and what it is doing.
-struct ExportState {
-    worker: Worker<ExportJob, Exported>,
-    running: Option<PathBuf>,
-    last: Option<Result<Exported, String>>,
-}
-
 /// The application's state and its workers.
 pub struct Controller {
     loaded: Option<Loaded>,
@@ -99,7 +92,7 @@ pub struct Controller {
     tools: ToolSettings,
     view: ViewOptions,
     preview: Scheduler,
-    export: ExportState,
+    export: Exporter,
     files: Files,
     message: Option<Message>,
     requests: ViewRequests,
@@ -120,11 +113,7 @@ impl Controller {
                 show_mask: true,
             },
             preview: Scheduler::new(Arc::clone(&repaint)),
-            export: ExportState {
-                worker: Worker::spawn("grime-export", Arc::clone(&repaint), render::export),
-                running: None,
-                last: None,
-            },
+            export: Exporter::new(Arc::clone(&repaint)),
             files: Files::spawn(repaint),
             message: None,
             requests: ViewRequests::default(),
@@ -169,26 +158,23 @@ impl Controller {
     }
 
     /// The file being exported and the export's progress.
-    pub fn export_running(&self) -> Option<(&Path, super::worker::Status)> {
-        self.export
-            .running
-            .as_deref()
-            .map(|p| (p, self.export.worker.status()))
+    pub fn export_running(&self) -> Option<(&Path, Status)> {
+        self.export.running()
     }
 
     /// The last export's result.
     pub fn last_export(&self) -> Option<&Result<Exported, String>> {
-        self.export.last.as_ref()
+        self.export.last()
     }
 
     /// True while a preview, export or file operation is running or pending.
     pub fn is_busy(&self) -> bool {
-        self.preview.is_busy() || self.export.running.is_some() || self.files.is_busy()
+        self.preview.is_busy() || self.export.running().is_some() || self.files.is_busy()
     }
 
     /// True while a worker runs (the view keeps its spinner turning).
     pub fn is_working(&self) -> bool {
-        self.preview.is_running() || self.export.running.is_some() || self.files.is_busy()
+        self.preview.is_running() || self.export.running().is_some() || self.files.is_busy()
     }
 
     /// What the view must do; taking it clears it.
@@ -225,26 +211,10 @@ impl Controller {
             }
             Polled::Nothing => {}
         }
-        if let Some(done) = self.export.worker.poll() {
-            self.export.running = None;
-            match done.result {
-                Ok(e) => {
-                    self.info(format!(
-                        "Exported {}×{} ({} layers) to {} in {:.1} s",
-                        e.width,
-                        e.height,
-                        e.layers,
-                        e.path.display(),
-                        done.elapsed.as_secs_f64()
-                    ));
-                    self.export.last = Some(Ok(e));
-                }
-                Err(crate::Error::Cancelled) => self.info("Export cancelled"),
-                Err(e) => {
-                    self.error(format!("export failed: {e}"));
-                    self.export.last = Some(Err(e.to_string()));
-                }
-            }
+        match self.export.poll() {
+            Some(Ok(note)) => self.info(note),
+            Some(Err(e)) => self.error(e),
+            None => {}
         }
         for done in self.files.poll() {
             match done {
@@ -389,8 +359,7 @@ impl Controller {
             }
             Command::Export(path) => self.start_export(path),
             Command::CancelExport => {
-                self.export.worker.cancel();
-                self.export.running = None;
+                self.export.cancel();
                 self.info("Export cancelled");
             }
             Command::StrokeBegin => {
@@ -594,27 +563,13 @@ impl Controller {
         }
     }
 
-    /// Starts the export on its worker. The output is checked there, by
-    /// [`crate::age::guard`], against the files the document came from.
     fn start_export(&mut self, path: PathBuf) {
         let Some(l) = &self.loaded else {
             return self.error("nothing to export: open an image first");
         };
-        let scene = Scene::shared(Arc::clone(&l.photo), Some(Arc::new(l.doc.mask.clone())))
-            .and_then(|s| s.with_quad(l.doc.quad));
-        let scene = match scene {
-            Ok(s) => s,
-            Err(e) => return self.error(format!("cannot export: {e}")),
-        };
-        let job = ExportJob {
-            scene,
-            from: l.from.clone(),
-            preset: l.doc.run_preset(),
-            layers: l.doc.layers.clone(),
-            path: path.clone(),
-        };
-        self.export.worker.submit(job);
-        self.export.running = Some(path.clone());
-        self.info(format!("Exporting {} at full resolution…", path.display()));
+        match self.export.start(l, path) {
+            Ok(note) => self.info(note),
+            Err(e) => self.error(e),
+        }
     }
 }
