@@ -30,6 +30,8 @@ pub mod grid;
 #[cfg(feature = "gui")]
 pub mod gui;
 pub mod io;
+pub mod ledges;
+pub mod masks;
 pub mod perspective;
 pub mod photo;
 pub mod pipeline;

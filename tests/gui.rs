@@ -109,13 +109,50 @@ fn open_facade(h: &mut Harness<'static, GrimeApp>) {
     settle(h);
 }
 
-#[test]
-fn paint_region_add_line_tune_undo_and_export() {
+/// A harness with `preset` and the sample facade open and previewed.
+fn facade_with(preset: Preset) -> Harness<'static, GrimeApp> {
     let mut h = harness(AppOptions {
-        preset: quick_preset(),
+        preset,
         ..AppOptions::default()
     });
     open_facade(&mut h);
+    h
+}
+
+/// Answers the path prompt that `button` opens with `path`, confirms it
+/// with `confirm`, and waits for the workers (file I/O runs off the UI
+/// thread).
+fn prompt(h: &mut Harness<'static, GrimeApp>, button: &str, path: &Path, confirm: &str) {
+    click(h, button);
+    h.get_by_label("Path")
+        .set_text_value_accesskit(path.to_str().unwrap());
+    h.step();
+    click(h, confirm);
+    settle(h);
+}
+
+/// Mask pixels of the document at or above `at`.
+fn mask_count(h: &Harness<'static, GrimeApp>, at: u8) -> usize {
+    let doc = h.state().document().expect("a document");
+    doc.mask.iter().filter(|&&m| m >= at).count()
+}
+
+/// The status bar message, which must be an error.
+fn error_message(h: &Harness<'static, GrimeApp>) -> String {
+    let (msg, err) = h.state().message().expect("a message");
+    assert!(err, "not an error: {msg}");
+    msg.to_string()
+}
+
+/// Moss and dust off: every layer is a rain layer.
+fn rain_only(p: &mut Preset) {
+    p.moss.enabled = false;
+    p.dust.enabled = false;
+}
+
+#[test]
+fn paint_region_add_line_tune_undo_and_export() {
+    let mut h = facade_with(quick_preset());
     h.check_accessibility(); // every input widget has a name
     let photo = h.state().proxy_image().expect("the sample is open");
     let first = h.state().preview_image().expect("a first preview").clone();
@@ -200,12 +237,7 @@ fn paint_region_add_line_tune_undo_and_export() {
     // Export at full resolution and read it back.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("aged.png");
-    click(&mut h, "Export…");
-    h.get_by_label("Path")
-        .set_text_value_accesskit(out.to_str().unwrap());
-    h.step();
-    click(&mut h, "Export now");
-    settle(&mut h);
+    prompt(&mut h, "Export…", &out, "Export now");
     assert!(
         matches!(h.state().last_export(), Some(Ok(_))),
         "{:?}",
@@ -233,14 +265,9 @@ fn unreadable_images_and_failed_writes_show_messages() {
     });
     h.step();
     click(&mut h, "File");
-    click(&mut h, "Open image…");
-    h.get_by_label("Path")
-        .set_text_value_accesskit(bad.to_str().unwrap());
-    h.step();
-    click(&mut h, "Open");
-    h.step();
-    let (msg, err) = h.state().message().expect("a message");
-    assert!(err && msg.contains("broken.jpg"), "{msg}");
+    prompt(&mut h, "Open image…", &bad, "Open");
+    let msg = error_message(&h);
+    assert!(msg.contains("broken.jpg"), "{msg}");
     assert!(h.state().document().is_none());
 
     open_facade(&mut h);
@@ -248,15 +275,10 @@ fn unreadable_images_and_failed_writes_show_messages() {
         Path::new("/nonexistent-grime-dir/aged.png"),
         Path::new("aged.bmpx"),
     ] {
-        click(&mut h, "Export…");
-        h.get_by_label("Path")
-            .set_text_value_accesskit(target.to_str().unwrap());
-        h.step();
-        click(&mut h, "Export now");
-        settle(&mut h);
-        let (msg, err) = h.state().message().expect("a message");
+        prompt(&mut h, "Export…", target, "Export now");
+        let msg = error_message(&h);
         assert!(
-            err && (msg.contains("does not exist") || msg.contains("unknown image extension")),
+            msg.contains("does not exist") || msg.contains("unknown image extension"),
             "{msg}"
         );
     }
@@ -266,14 +288,9 @@ fn unreadable_images_and_failed_writes_show_messages() {
 fn time_slider_and_layers_recomposite_without_simulating() {
     let mut p = quick_preset();
     p.rain.layers = 4;
-    for effect in ["moss", "dust"] {
-        let _ = p.set(&format!("{effect}.enabled=false"));
-    }
-    let mut h = harness(AppOptions {
-        preset: p,
-        ..AppOptions::default()
-    });
-    open_facade(&mut h);
+    rain_only(&mut p);
+    let mut h = facade_with(p);
+    let simulations = h.state().controller().preview().simulations();
     let four = h.state().preview_image().unwrap().clone();
     h.get_by_role_and_label(Role::Slider, "Rainfalls")
         .set_value_accesskit(2.0);
@@ -287,15 +304,16 @@ fn time_slider_and_layers_recomposite_without_simulating() {
     assert!(!h.state().is_busy());
     assert!(!diff(h.state().preview_image().unwrap(), &two).is_empty());
     assert!(!h.state().document().unwrap().layers["rain 01"].visible);
+    assert_eq!(
+        h.state().controller().preview().simulations(),
+        simulations,
+        "the worker never started"
+    );
 }
 
 #[test]
 fn lasso_wand_detect_ledges_and_quad() {
-    let mut h = harness(AppOptions {
-        preset: quick_preset(),
-        ..AppOptions::default()
-    });
-    open_facade(&mut h);
+    let mut h = facade_with(quick_preset());
     let n0 = h.state().document().unwrap().lines.len();
     click(&mut h, "Detect ledges");
     settle(&mut h);
@@ -309,26 +327,12 @@ fn lasso_wand_detect_ledges_and_quad() {
     }
     h.key_press(Key::Enter);
     h.step();
-    let lasso = h
-        .state()
-        .document()
-        .unwrap()
-        .mask
-        .iter()
-        .filter(|&&m| m > 0)
-        .count();
+    let lasso = mask_count(&h, 1);
     assert!(lasso > 10_000, "lasso filled {lasso}");
 
     click(&mut h, "Wand");
     click_at(&mut h, 0.5, 0.03); // the sky
-    let wand = h
-        .state()
-        .document()
-        .unwrap()
-        .mask
-        .iter()
-        .filter(|&&m| m > 0)
-        .count();
+    let wand = mask_count(&h, 1);
     assert!(
         wand > lasso + 10_000,
         "wand added the sky: {lasso} -> {wand}"
@@ -357,19 +361,11 @@ fn presets_and_projects_round_trip_through_the_ui() {
     let dir = tempfile::tempdir().unwrap();
     let preset_path = dir.path().join("mine.toml");
     let project = dir.path().join("facade.grime.json");
-    let mut h = harness(AppOptions {
-        preset: quick_preset(),
-        ..AppOptions::default()
-    });
-    open_facade(&mut h);
+    let mut h = facade_with(quick_preset());
     h.get_by_role_and_label(Role::Slider, "k_s")
         .set_value_accesskit(0.4);
     h.step();
-    click(&mut h, "Save…");
-    h.get_by_label("Path")
-        .set_text_value_accesskit(preset_path.to_str().unwrap());
-    h.step();
-    click(&mut h, "Save");
+    prompt(&mut h, "Save…", &preset_path, "Save");
     let saved = Preset::from_toml(&std::fs::read_to_string(&preset_path).unwrap()).unwrap();
     assert_eq!(saved.rain.k_s, 0.4);
     assert!(
@@ -382,6 +378,7 @@ fn presets_and_projects_round_trip_through_the_ui() {
         .set_text_value_accesskit(project.to_str().unwrap());
     h.step();
     click(&mut h, "Save");
+    settle(&mut h);
     assert!(
         project.exists() && dir.path().join("facade.mask.png").exists(),
         "{:?}",
@@ -411,45 +408,113 @@ fn presets_and_projects_round_trip_through_the_ui() {
 
 #[test]
 fn brush_and_eraser_paint_the_region() {
-    let mut h = harness(AppOptions {
-        preset: quick_preset(),
-        ..AppOptions::default()
-    });
-    open_facade(&mut h);
+    let mut h = facade_with(quick_preset());
     click(&mut h, "Clear");
     click(&mut h, "Brush");
     drag(&mut h, (0.2, 0.5), (0.8, 0.5));
-    let painted = h
-        .state()
-        .document()
-        .unwrap()
-        .mask
-        .iter()
-        .filter(|&&m| m > 0)
-        .count();
+    let painted = mask_count(&h, 1);
     assert!(painted > 5_000, "{painted}");
     click(&mut h, "Eraser");
     drag(&mut h, (0.2, 0.5), (0.8, 0.5));
-    let left = h
-        .state()
-        .document()
-        .unwrap()
-        .mask
-        .iter()
-        .filter(|&&m| m >= 128)
-        .count();
+    let left = mask_count(&h, 128);
     assert!(left < painted / 4, "{painted} -> {left}");
     settle(&mut h);
     // One undo step per stroke.
     click(&mut h, "Undo");
+    assert_eq!(mask_count(&h, 1), painted);
+}
+
+#[test]
+fn the_stain_opacity_slider_restyles_without_the_simulation_worker() {
+    let mut p = quick_preset();
+    rain_only(&mut p);
+    let mut h = facade_with(p);
+    let before = h.state().preview_image().unwrap().clone();
+    let simulations = h.state().controller().preview().simulations();
+    // The layer panel's rows come first, then the Stain section's slider
+    // (the Moss section's "opacity" is last).
+    let layers = h.state().document().unwrap().preset.rain.layers as usize;
+    let sliders: Vec<_> = h
+        .get_all_by_role_and_label(Role::Slider, "opacity")
+        .collect();
+    assert_eq!(sliders.len(), layers + 2);
+    sliders[layers].set_value_accesskit(0.3);
+    h.step();
+    assert_eq!(h.state().document().unwrap().preset.stain.opacity, 0.3);
+    assert!(!h.state().is_busy(), "re-composited in the same frame");
+    settle(&mut h);
     assert_eq!(
-        h.state()
-            .document()
-            .unwrap()
-            .mask
-            .iter()
-            .filter(|&&m| m > 0)
-            .count(),
-        painted
+        h.state().controller().preview().simulations(),
+        simulations,
+        "a restyle-only change never starts the simulation worker"
     );
+    assert!(!diff(h.state().preview_image().unwrap(), &before).is_empty());
+}
+
+#[test]
+fn a_dust_change_re_runs_only_the_dust() {
+    let mut h = facade_with(quick_preset());
+    let stages = |h: &Harness<'static, GrimeApp>| -> Vec<String> {
+        let preview = h.state().controller().preview().current().unwrap();
+        preview.timings.iter().map(|t| t.stage.clone()).collect()
+    };
+    assert!(!stages(&h).iter().any(|s| s.ends_with("(kept)")));
+    let days = h.state().document().unwrap().preset.dust.days;
+    h.get_by_role_and_label(Role::Slider, "Dust days")
+        .set_value_accesskit(f64::from(days + 30));
+    h.step();
+    assert_eq!(h.state().document().unwrap().preset.dust.days, days + 30);
+    settle(&mut h);
+    let s = stages(&h);
+    for kept in ["rain (kept)", "moss (kept)"] {
+        assert!(s.iter().any(|t| t == kept), "{kept} not in {s:?}");
+    }
+    assert!(s.iter().any(|t| t == "dust"), "{s:?}");
+}
+
+#[test]
+fn export_refuses_to_overwrite_the_photo_or_the_project_mask() {
+    let dir = tempfile::tempdir().unwrap();
+    let photo = dir.path().join("wall.png");
+    let d = grime::demo::facade(240, 180);
+    grime::io::save_image(d.photo.image(), None, &photo).unwrap();
+    let bytes = std::fs::read(&photo).unwrap();
+    let mut h = harness(AppOptions {
+        image: Some(photo.clone()),
+        preset: quick_preset(),
+        ..AppOptions::default()
+    });
+    settle(&mut h);
+    assert!(h.state().document().is_some(), "{:?}", h.state().message());
+    prompt(&mut h, "Export…", &photo, "Export now");
+    let msg = error_message(&h);
+    assert!(msg.contains("refusing to overwrite an input"), "{msg}");
+    assert_eq!(std::fs::read(&photo).unwrap(), bytes, "the photo is intact");
+
+    // A project's mask file is an input too.
+    let project = dir.path().join("wall.grime.json");
+    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    h.step();
+    h.get_by_label("Path")
+        .set_text_value_accesskit(project.to_str().unwrap());
+    h.step();
+    click(&mut h, "Save");
+    settle(&mut h);
+    let mask = dir.path().join("wall.mask.png");
+    let mut h = harness(AppOptions {
+        image: Some(project),
+        ..AppOptions::default()
+    });
+    settle(&mut h);
+    prompt(&mut h, "Export…", &mask, "Export now");
+    let msg = error_message(&h);
+    assert!(msg.contains("refusing to overwrite an input"), "{msg}");
+    // Another name is fine.
+    prompt(
+        &mut h,
+        "Export…",
+        &dir.path().join("aged.png"),
+        "Export now",
+    );
+    assert!(matches!(h.state().last_export(), Some(Ok(_))));
 }

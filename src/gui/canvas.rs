@@ -9,7 +9,7 @@ use egui::{
     vec2,
 };
 
-use crate::perspective::{self, Quad, Rectifier};
+use crate::perspective::{self, Quad};
 use crate::preset::SourceLine;
 
 use super::command::{Command, MaskShape};
@@ -135,10 +135,8 @@ pub struct Canvas {
     pub hover: Option<[f32; 2]>,
 }
 
-const LINE_COLOR: Color32 = Color32::from_rgb(255, 150, 30);
-const SELECTED_COLOR: Color32 = Color32::from_rgb(255, 235, 60);
-const QUAD_COLOR: Color32 = Color32::from_rgb(230, 60, 230);
-const SHAPE_COLOR: Color32 = Color32::from_rgb(60, 200, 255);
+use super::overlays::{self, LINE_COLOR, QUAD_COLOR, SHAPE_COLOR};
+
 /// Pick distance for points and lines, screen points.
 const PICK: f32 = 9.0;
 
@@ -257,42 +255,20 @@ impl Canvas {
             Gesture::Vertex { current, .. } | Gesture::MoveLine { current, .. } => current,
             _ => input.lines,
         };
-        for (i, line) in shown_lines.iter().enumerate() {
-            let pts: Vec<Pos2> = line.iter().map(|p| to_screen(*p)).collect();
-            let color = if self.selected_line == Some(i) {
-                SELECTED_COLOR
-            } else {
-                LINE_COLOR
-            };
-            painter.add(Shape::line(
-                pts.clone(),
-                Stroke::new(4.0, Color32::from_black_alpha(140)),
-            ));
-            painter.add(Shape::line(pts.clone(), Stroke::new(2.0, color)));
-            // Drips: short ticks below the line show where water leaves it.
-            for pair in pts.windows(2) {
-                let len = pair[0].distance(pair[1]);
-                let n = (len / 28.0).floor() as usize;
-                for k in 1..=n {
-                    let q = pair[0] + (pair[1] - pair[0]) * (k as f32 / (n + 1) as f32);
-                    painter.line_segment(
-                        [q, q + vec2(0.0, 7.0)],
-                        Stroke::new(1.5, color.gamma_multiply(0.8)),
-                    );
-                }
-            }
-            if tool == Tool::EditLines || self.selected_line == Some(i) {
-                for p in &pts {
-                    painter.circle(*p, 4.0, color, Stroke::new(1.0, Color32::BLACK));
-                }
-            }
-        }
+        let handles = tool == Tool::EditLines;
+        overlays::source_lines(
+            &painter,
+            shown_lines,
+            self.selected_line,
+            handles,
+            to_screen,
+        );
         let quad = match &self.gesture {
             Gesture::Corner { current, .. } => Some(*current),
             _ => input.quad.copied(),
         };
         if let Some(q) = quad {
-            draw_quad(&painter, &q, to_screen, tool == Tool::Quad);
+            overlays::quad(&painter, &q, to_screen, tool == Tool::Quad);
         }
         match &self.gesture {
             Gesture::Rect { start } | Gesture::NewQuad { start } => {
@@ -328,15 +304,7 @@ impl Canvas {
             && let Some(p) = resp.hover_pos()
         {
             let r = input.tools.brush_size / 2.0 * view.zoom;
-            painter.circle_stroke(p, r, Stroke::new(1.5, Color32::from_black_alpha(160)));
-            painter.circle_stroke(p, r, Stroke::new(1.0, Color32::WHITE));
-            if input.tools.hardness < 1.0 {
-                painter.circle_stroke(
-                    p,
-                    r * input.tools.hardness,
-                    Stroke::new(1.0, Color32::from_white_alpha(90)),
-                );
-            }
+            overlays::brush(&painter, p, r, input.tools.hardness);
         }
         let cursor = if pan_primary {
             if resp.dragged() {
@@ -636,49 +604,6 @@ impl Canvas {
                 }
             }
             _ => {}
-        }
-    }
-}
-
-fn draw_quad(
-    painter: &egui::Painter,
-    q: &Quad,
-    to_screen: impl Fn([f32; 2]) -> Pos2,
-    handles: bool,
-) {
-    let pts: Vec<Pos2> = q.iter().map(|p| to_screen(*p)).collect();
-    // The rectified grid: lines of constant u and v, so the user sees the
-    // wall's verticals as the simulation will.
-    if let Ok(r) = Rectifier::new(q, 1 << 20) {
-        let (w, h) = (r.width as f32, r.height as f32);
-        for k in 1..6 {
-            let t = k as f32 / 6.0;
-            let a = r.rect_to_photo(w * t, 0.0);
-            let b = r.rect_to_photo(w * t, h);
-            painter.line_segment(
-                [to_screen([a.0, a.1]), to_screen([b.0, b.1])],
-                Stroke::new(1.0, QUAD_COLOR.gamma_multiply(0.45)),
-            );
-            let a = r.rect_to_photo(0.0, h * t);
-            let b = r.rect_to_photo(w, h * t);
-            painter.line_segment(
-                [to_screen([a.0, a.1]), to_screen([b.0, b.1])],
-                Stroke::new(1.0, QUAD_COLOR.gamma_multiply(0.25)),
-            );
-        }
-    }
-    painter.add(Shape::closed_line(
-        pts.clone(),
-        Stroke::new(2.0, QUAD_COLOR),
-    ));
-    if handles {
-        for p in pts {
-            painter.circle(
-                p,
-                6.0,
-                Color32::from_black_alpha(120),
-                Stroke::new(2.0, QUAD_COLOR),
-            );
         }
     }
 }

@@ -2,13 +2,13 @@
 //! directly: they push commands, and the app applies them in one place,
 //! records undo steps and schedules the preview.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crate::perspective::Quad;
 use crate::preset::SourceLine;
 
-use super::state::LayerSetting;
-use super::tools::{MaskMode, Tool};
+use super::state::{ImageSource, LayerSetting};
+use super::tools::{MaskMode, Tool, ToolSettings};
 
 /// A shape that fills part of the mask.
 #[derive(Debug, Clone, PartialEq)]
@@ -80,6 +80,31 @@ impl PromptKind {
                 &["png", "jpg", "tif", "webp", "psd", "ora"],
             ),
         }
+    }
+
+    /// The path the prompt suggests for the document from `source`: next
+    /// to the photo (or in the working folder), named after it; nothing
+    /// for the kinds that open a file.
+    pub fn suggest(self, source: Option<&ImageSource>) -> String {
+        let cwd = || std::env::current_dir().unwrap_or_default();
+        let (dir, stem) = match source {
+            Some(ImageSource::File(p)) => (
+                p.parent().map(Path::to_path_buf).unwrap_or_default(),
+                p.file_stem()
+                    .map_or_else(|| "facade".into(), |s| s.to_string_lossy().into_owned()),
+            ),
+            Some(ImageSource::Demo(n)) => (cwd(), n.clone()),
+            None => (cwd(), "facade".into()),
+        };
+        let file = match self {
+            PromptKind::OpenImage | PromptKind::OpenProject | PromptKind::LoadPreset => {
+                return String::new();
+            }
+            PromptKind::SaveProject => format!("{stem}.grime.json"),
+            PromptKind::SavePreset => format!("{stem}.toml"),
+            PromptKind::Export => format!("{stem}-aged.png"),
+        };
+        dir.join(file).display().to_string()
     }
 
     /// The command for a chosen path.
@@ -180,6 +205,15 @@ pub enum Command {
     Redo,
     /// Choose a tool.
     SetTool(Tool),
+    /// Tool options (brush size and hardness, wand tolerance, add or
+    /// subtract).
+    SetTools(ToolSettings),
+    /// Show the photo without weathering.
+    ShowOriginal(bool),
+    /// Show the region overlay.
+    ShowMask(bool),
+    /// Hide the status bar message.
+    DismissMessage,
     /// Fit the image to the canvas.
     FitView,
     /// Close the window.

@@ -1,29 +1,42 @@
 //! `grime gui`: retouch a facade interactively.
 //!
-//! The GUI is a thin front end over the same pipeline as the CLI
-//! ([`crate::perspective::pipeline_with_quad`], i.e. [`crate::pipeline::run`]).
-//! Its parts:
+//! The GUI is a thin front end over the same core as the CLI: previews go
+//! through [`crate::pipeline::run_cached`], exports through
+//! [`crate::age::age_adjusted`] (whose guard is the one overwrite check).
+//! It is laid out in rooms, in the manner of egui_demo_app:
 //!
-//! - [`state`]: the document (image, mask, source lines, quad, preset,
-//!   layer settings) and the project file. Plain data.
-//! - [`command`]: what widgets ask for. Widgets emit commands; [`app`]
-//!   applies them in one place and records [`history`] steps.
-//! - [`worker`]: background threads with cancellation; a newer job cancels
-//!   an older one and stale results are dropped. A job may hand over an
-//!   early result (the preview's quick pass) before its final one.
-//! - [`render`]: the jobs: the ~1 MP preview (a quick pass on a coarse grid,
-//!   then the full pass; re-composite-only updates) and the full-resolution
-//!   export.
-//! - [`canvas`], [`tools`], [`panels`]: the canvas and its tools, and the
-//!   parameter, time and layer panels.
+//! - [`app`]: the frame loop, wiring only (the `eframe::App`).
+//! - [`controller`]: applies [`command::Command`]s to the document, records
+//!   [`history`] steps and drives the workers; no egui inside. File I/O
+//!   runs on the file thread ([`files`]), simulations on [`worker`]s.
+//! - [`preview`]: the preview scheduler (simulate, re-composite, or wait).
+//! - [`exporter`]: the export worker, its progress and last result.
+//! - [`render`] and [`proxy`]: the jobs the workers run, on a ~1 MP proxy
+//!   (a quick pass on a coarse grid, then the full pass) and at full size.
+//! - The views, which read state and emit commands: [`menu`], [`toolbar`],
+//!   [`panels`] (the side panel), [`status`], [`prompt`], and the
+//!   [`canvas`] with its [`tools`] and [`overlays`].
+//! - [`state`]: the document and the project file, plain data.
+//! - [`automation`]: scripted runs (`--screenshot`, `--quit-after-frames`).
 
 pub mod app;
+pub mod automation;
 pub mod canvas;
 pub mod command;
+pub mod controller;
+pub mod exporter;
+pub mod files;
 pub mod history;
+pub mod menu;
+pub mod overlays;
 pub mod panels;
+pub mod preview;
+pub mod prompt;
+pub mod proxy;
 pub mod render;
 pub mod state;
+pub mod status;
+pub mod toolbar;
 pub mod tools;
 pub mod worker;
 

@@ -9,8 +9,91 @@ use egui::{CollapsingHeader, Response, RichText, Sense, Shape, Slider, Stroke, U
 
 use crate::preset::{self, ParamSpec, Preset};
 
-use super::command::Command;
+use super::command::{Command, PromptKind};
+use super::controller::Controller;
 use super::state::LayerSetting;
+
+/// The side panel: a welcome without a document; else time, layers and
+/// parameters.
+pub fn side(ui: &mut Ui, ctl: &Controller, out: &mut Vec<Command>) {
+    let Some(l) = ctl.loaded() else {
+        ui.add_space(8.0);
+        ui.heading("grime");
+        ui.label("Ages photos of buildings: rain streaks, moss and dust as layers.");
+        ui.add_space(8.0);
+        if ui.button("Try the sample facade").clicked() {
+            out.push(Command::OpenDemo("facade".into()));
+        }
+        ui.add_space(4.0);
+        ui.label("Or open a photo (File > Open image, Ctrl+O), or drop one onto the window.");
+        return;
+    };
+    let preset = &l.doc.preset;
+    egui::ScrollArea::vertical()
+        .auto_shrink([false, false])
+        .show(ui, |ui| {
+            ui.add_space(4.0);
+            ui.heading("Time");
+            time(ui, preset, out);
+            ui.separator();
+            ui.heading("Layers");
+            let rows: Vec<LayerRow> = ctl.preview().current().map_or_else(Vec::new, |p| {
+                p.stack
+                    .layers
+                    .iter()
+                    .map(|layer| LayerRow {
+                        name: layer.name.clone(),
+                        opacity: layer.opacity,
+                        visible: layer.visible,
+                        setting: l.doc.layers.get(&layer.name).copied().unwrap_or_default(),
+                    })
+                    .collect()
+            });
+            layers(ui, &rows, out);
+            ui.separator();
+            ui.horizontal(|ui| {
+                ui.heading("Parameters");
+                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                    preset_buttons(ui, out)
+                });
+            });
+            seed(ui, preset, out);
+            parameters(ui, preset, out);
+        });
+}
+
+/// Save, load and built-in presets.
+fn preset_buttons(ui: &mut Ui, out: &mut Vec<Command>) {
+    if ui
+        .button("Save…")
+        .on_hover_text("Save the preset as commented TOML (same as the CLI's --preset)")
+        .clicked()
+    {
+        out.push(Command::Prompt(PromptKind::SavePreset));
+    }
+    if ui
+        .button("Load…")
+        .on_hover_text("Load a preset TOML")
+        .clicked()
+    {
+        out.push(Command::Prompt(PromptKind::LoadPreset));
+    }
+    egui::ComboBox::from_id_salt("builtin")
+        .selected_text("Preset")
+        .show_ui(ui, |ui| {
+            for (name, about) in preset::BUILTIN {
+                if ui
+                    .selectable_label(false, *name)
+                    .on_hover_text(*about)
+                    .clicked()
+                {
+                    out.push(Command::BuiltinPreset(name.to_string()));
+                }
+            }
+        })
+        .response
+        .on_hover_text("Built-in presets");
+}
 
 /// The time sliders: preset path and label. Paths missing from the preset
 /// (an effect not built in) are skipped.

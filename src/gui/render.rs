@@ -1,17 +1,20 @@
-//! What the workers run: the preview on a ~1 MP proxy, and the export at
-//! full resolution. Both call the same pipeline as the CLI
-//! ([`perspective::pipeline_with_quad`], which is [`crate::pipeline::run`]
-//! without a quad).
+//! What the workers run: the preview on a ~1 MP proxy ([`super::proxy`]),
+//! and the export at full resolution. Both go through the core's one door:
+//! the preview through [`pipeline::run_cached`], the export through
+//! [`age::age_adjusted`], whose guard is the only overwrite check.
 //!
-//! A preview keeps its layer stack, so changes that need no new simulation
-//! (stain colour and opacity, layer visibility and opacity, fewer rainfalls)
-//! only re-composite: see [`needs_simulation`] and [`Preview::restyle`].
+//! A preview keeps its layer stack, so changes the core says need no new
+//! simulation ([`effects::stale`] is empty: stain colour and opacity, fewer
+//! rainfalls when nothing reads the last one) and layer visibility and
+//! opacity only re-composite ([`Preview::restyle`], with
+//! [`Effect::restyle`]).
 //!
 //! A simulation runs in two passes ([`Previewer::run`]): a quick one on a
 //! coarse grid ([`QUICK_MAX_SIDE`]) that the canvas shows at once, then the
-//! full one with the preset as it is. The [`Previewer`] also keeps the dust
-//! layers between runs: they depend only on the region, the quad, the dust
-//! parameters and the seed, so a rain or moss change reuses them.
+//! full one with the preset as it is. Each pass keeps a [`pipeline::Cache`],
+//! so a change re-runs only the effects it makes stale (a dust change
+//! re-runs the dust alone, a rain change keeps the dust), and the quick
+//! pass is skipped when no effect to re-run depends on the grid.
 
 use eframe::egui;
 
@@ -21,162 +24,30 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use egui::ColorImage;
-use image::{DynamicImage, GrayImage};
+use image::DynamicImage;
 
 use crate::age;
+use crate::effects::{self, Effect};
 use crate::error::Result;
-use crate::perspective::Quad;
-use crate::photo::Photo;
-use crate::pipeline::{Scene, Timing};
-use crate::preset::{DustParams, Preset};
+use crate::pipeline::{self, Cache, Scene, Timing};
+use crate::preset::Preset;
 use crate::progress::Progress;
-use crate::stack::{Layer, LayerPixels, Stack};
+use crate::stack::Stack;
 
 use super::state::{LayerSetting, apply_layer_settings};
-use super::tools::PixelRect;
 
-/// Pixels of the preview proxy (about 1 MP).
-pub const PROXY_PIXELS: u64 = 1_000_000;
+pub use super::proxy::{PROXY_PIXELS, Proxy};
 
 /// Longest side of the simulation grid in the quick pass. The droplet count
 /// follows the grid's width and the streak geometry is resolution
 /// independent, so the quick pass looks like the full one, only blurrier.
 pub const QUICK_MAX_SIDE: u32 = 192;
 
-/// The photo and mask scaled down for previews, and the mapping to them.
-#[derive(Debug, Clone)]
-pub struct Proxy {
-    /// Proxy pixels per photo pixel, horizontally.
-    pub sx: f32,
-    /// Proxy pixels per photo pixel, vertically.
-    pub sy: f32,
-    /// The scaled photo (the photo itself when it is small enough).
-    pub photo: Arc<Photo>,
-    /// The scaled mask, area-averaged.
-    pub mask: GrayImage,
-}
-
-impl Proxy {
-    /// The proxy of `photo` with at most `max_pixels` pixels.
-    pub fn new(photo: &Arc<Photo>, mask: &GrayImage, max_pixels: u64) -> Proxy {
-        let (w, h) = (photo.width(), photo.height());
-        let s = (max_pixels as f64 / (w as f64 * h as f64)).sqrt().min(1.0);
-        if s >= 1.0 {
-            return Proxy {
-                sx: 1.0,
-                sy: 1.0,
-                photo: Arc::clone(photo),
-                mask: mask.clone(),
-            };
-        }
-        let (pw, ph) = (
-            ((w as f64 * s).round() as u32).max(1),
-            ((h as f64 * s).round() as u32).max(1),
-        );
-        let img = photo
-            .image()
-            .resize_exact(pw, ph, image::imageops::FilterType::Triangle);
-        let mut small = Photo::new(img);
-        small.icc = photo.icc.clone();
-        let mut proxy = Proxy {
-            sx: pw as f32 / w as f32,
-            sy: ph as f32 / h as f32,
-            photo: Arc::new(small),
-            mask: GrayImage::new(pw, ph),
-        };
-        proxy.update_mask(mask, PixelRect::full(w, h));
-        proxy
-    }
-
-    /// True when the proxy is the photo itself.
-    pub fn is_full_size(&self) -> bool {
-        self.sx == 1.0 && self.sy == 1.0
-    }
-
-    /// Re-samples the proxy mask where the photo mask changed (`rect`, photo
-    /// pixels). Returns the proxy pixels that were updated.
-    pub fn update_mask(&mut self, full: &GrayImage, rect: PixelRect) -> Option<PixelRect> {
-        let (pw, ph) = self.mask.dimensions();
-        let (w, h) = full.dimensions();
-        let r = PixelRect::around(
-            rect.x0 as f32 * self.sx,
-            rect.y0 as f32 * self.sy,
-            rect.x1 as f32 * self.sx,
-            rect.y1 as f32 * self.sy,
-            pw,
-            ph,
-        )?;
-        if self.is_full_size() {
-            for y in r.y0..r.y1 {
-                let s = (y * w + r.x0) as usize;
-                let e = s + r.width() as usize;
-                self.mask.as_mut()[s..e].copy_from_slice(&full.as_raw()[s..e]);
-            }
-            return Some(r);
-        }
-        let span = |p: u32, s: f32, max: u32| {
-            let a = ((p as f32 / s) as u32).min(max - 1);
-            let b = (((p + 1) as f32 / s).ceil() as u32).clamp(a + 1, max);
-            (a, b)
-        };
-        let raw = full.as_raw();
-        for py in r.y0..r.y1 {
-            let (ya, yb) = span(py, self.sy, h);
-            for px in r.x0..r.x1 {
-                let (xa, xb) = span(px, self.sx, w);
-                let mut sum = 0u64;
-                for y in ya..yb {
-                    let row = &raw[(y * w + xa) as usize..(y * w + xb) as usize];
-                    sum += row.iter().map(|&v| v as u64).sum::<u64>();
-                }
-                let n = ((yb - ya) * (xb - xa)) as u64;
-                self.mask
-                    .put_pixel(px, py, image::Luma([((sum + n / 2) / n) as u8]));
-            }
-        }
-        Some(r)
-    }
-
-    /// A photo point on the proxy.
-    pub fn to_proxy(&self, p: [f32; 2]) -> [f32; 2] {
-        [p[0] * self.sx, p[1] * self.sy]
-    }
-
-    /// The preview job for a document's state.
-    pub fn job(
-        &self,
-        preset: &Preset,
-        quad: Option<&Quad>,
-        layers: &BTreeMap<String, LayerSetting>,
-    ) -> Result<PreviewJob> {
-        let mut preset = preset.clone();
-        for line in &mut preset.rain.source_lines {
-            for p in line.iter_mut() {
-                *p = self.to_proxy(*p);
-            }
-        }
-        // The proxy photo is shared, not copied (it never changes).
-        Ok(PreviewJob {
-            scene: Scene {
-                photo: Arc::clone(&self.photo),
-                region: Some(Arc::new(self.mask.clone())),
-                normals: None,
-                quad: None,
-            },
-            quad: quad.map(|q| q.map(|p| self.to_proxy(p))),
-            preset,
-            layers: layers.clone(),
-        })
-    }
-}
-
 /// One preview computation.
 #[derive(Debug, Clone)]
 pub struct PreviewJob {
-    /// Proxy photo and mask.
+    /// Proxy photo, mask and quad (proxy pixels).
     pub scene: Scene,
-    /// Perspective quad in proxy pixels.
-    pub quad: Option<Quad>,
     /// The preset, source lines in proxy pixels.
     pub preset: Preset,
     /// Layer visibility and opacity.
@@ -197,8 +68,9 @@ pub struct Preview {
     pub image: Arc<ColorImage>,
     /// True for a quick pass on a coarse grid; the full pass follows.
     pub quick: bool,
-    /// Where the time went: the pipeline's stages, then "composite" and
-    /// "image" (conversion for the texture), ms.
+    /// Where the time went: the pipeline's stages (a kept effect as
+    /// "NAME (kept)"), then "composite" and "image" (conversion for the
+    /// texture), ms.
     pub timings: Vec<Timing>,
 }
 
@@ -220,44 +92,13 @@ pub fn quick_preset(preset: &Preset, width: u32, height: u32) -> Option<Preset> 
     })
 }
 
-/// True for the layers the dust makes ("dust film", "dust granules").
-fn is_dust_layer(name: &str) -> bool {
-    name.starts_with("dust ")
-}
-
-/// The dust layers of the last run and what they were made from.
-#[derive(Debug)]
-struct DustCache {
-    size: (u32, u32),
-    region: Option<Arc<GrayImage>>,
-    quad: Option<Quad>,
-    params: DustParams,
-    seed: u64,
-    layers: Vec<Layer>,
-}
-
-impl DustCache {
-    fn matches(&self, job: &PreviewJob, preset: &Preset) -> bool {
-        let photo = &job.scene.photo;
-        self.size == (photo.width(), photo.height())
-            && self.quad == job.quad
-            && self.params == preset.dust
-            && self.seed == preset.seed
-            && job.scene.normals.is_none()
-            && match (&self.region, &job.scene.region) {
-                (None, None) => true,
-                (Some(a), Some(b)) => Arc::ptr_eq(a, b) || a.as_raw() == b.as_raw(),
-                _ => false,
-            }
-    }
-}
-
 /// Runs preview jobs (the preview worker owns one): a quick pass on a
-/// coarse grid, then the full pass. Keeps the last dust layers for the next
-/// run.
+/// coarse grid, then the full pass, each keeping its effects' outputs for
+/// the next run.
 #[derive(Debug, Default)]
 pub struct Previewer {
-    dust: Option<DustCache>,
+    quick: Cache,
+    full: Cache,
 }
 
 impl Previewer {
@@ -266,7 +107,7 @@ impl Previewer {
     /// `progress` is cancelled, also between and during the passes.
     ///
     /// # Errors
-    /// As [`perspective::pipeline_with_quad`].
+    /// As [`pipeline::run`].
     pub fn run(
         &mut self,
         job: PreviewJob,
@@ -280,85 +121,60 @@ impl Previewer {
         self.full(&job, progress)
     }
 
-    /// The quick pass alone; `None` when the job needs none (see
-    /// [`quick_preset`]).
+    /// The quick pass alone; `None` when the job needs none: the grid is
+    /// coarse already ([`quick_preset`]), or the full pass re-runs no effect
+    /// the grid changes (e.g. a dust change: the full pass is quick).
     ///
     /// # Errors
-    /// As [`perspective::pipeline_with_quad`].
+    /// As [`pipeline::run`].
     pub fn quick(&mut self, job: &PreviewJob, progress: &Progress) -> Option<Result<Preview>> {
-        let photo = &job.scene.photo;
-        let preset = quick_preset(&job.preset, photo.width(), photo.height())?;
-        Some(self.pass(job, &preset, true, progress))
+        let (w, h) = job.scene.size();
+        let preset = quick_preset(&job.preset, w, h)?;
+        let coarse = effects::stale(&job.preset, &preset);
+        let kept = self.full.valid(&job.scene, &job.preset);
+        let rerun = Effect::ALL
+            .into_iter()
+            .any(|e| e.enabled(&job.preset) && !kept.contains(&e) && coarse.contains(&e));
+        rerun.then(|| pass(&mut self.quick, job, &preset, true, progress))
     }
 
     /// The full pass alone: the job's preset as it is.
     ///
     /// # Errors
-    /// As [`perspective::pipeline_with_quad`].
+    /// As [`pipeline::run`].
     pub fn full(&mut self, job: &PreviewJob, progress: &Progress) -> Result<Preview> {
-        self.pass(job, &job.preset, false, progress)
+        pass(&mut self.full, job, &job.preset, false, progress)
     }
+}
 
-    fn pass(
-        &mut self,
-        job: &PreviewJob,
-        preset: &Preset,
-        quick: bool,
-        progress: &Progress,
-    ) -> Result<Preview> {
-        let reuse =
-            preset.dust.enabled && self.dust.as_ref().is_some_and(|c| c.matches(job, preset));
-        let without_dust;
-        let run = if reuse {
-            let mut p = preset.clone();
-            p.dust.enabled = false;
-            without_dust = p;
-            &without_dust
-        } else {
-            preset
-        };
-        let scene = job.scene.clone().with_quad(job.quad)?;
-        let out = crate::pipeline::run(&scene, run, progress)?;
-        let mut timings = out.report.timings;
-        let mut stack = out.stack;
-        let start = Instant::now();
-        if let (true, Some(cache)) = (reuse, &self.dust) {
-            stack.layers.extend(cache.layers.iter().cloned());
-            timings.push(lap("dust (kept)", start));
-        } else if preset.dust.enabled && job.scene.normals.is_none() {
-            let photo = &job.scene.photo;
-            self.dust = Some(DustCache {
-                size: (photo.width(), photo.height()),
-                region: job.scene.region.clone(),
-                quad: job.quad,
-                params: preset.dust.clone(),
-                seed: preset.seed,
-                layers: stack
-                    .layers
-                    .iter()
-                    .filter(|l| is_dust_layer(&l.name))
-                    .cloned()
-                    .collect(),
-            });
-        }
-        let original = stack
-            .layers
-            .iter()
-            .map(|l| (l.opacity, l.visible))
-            .collect();
-        let mut preview = Preview {
-            stack,
-            sim_preset: preset.clone(),
-            original,
-            image: Arc::default(),
-            quick,
-            timings,
-        };
-        progress.update("composite", 1.0);
-        let [composite, image] = preview.restyle_timed(&job.preset, &job.layers);
-        preview.timings.extend([composite, image]);
-        Ok(preview)
-    }
+/// One pass with `preset`, re-using what `cache` still holds, styled with
+/// the job's preset and layer settings.
+fn pass(
+    cache: &mut Cache,
+    job: &PreviewJob,
+    preset: &Preset,
+    quick: bool,
+    progress: &Progress,
+) -> Result<Preview> {
+    let out = pipeline::run_cached(&job.scene, preset, progress, cache)?;
+    let original = out
+        .stack
+        .layers
+        .iter()
+        .map(|l| (l.opacity, l.visible))
+        .collect();
+    let mut preview = Preview {
+        stack: out.stack,
+        sim_preset: preset.clone(),
+        original,
+        image: Arc::default(),
+        quick,
+        timings: out.report.timings,
+    };
+    progress.update("composite", 1.0);
+    let [composite, image] = preview.restyle_timed(&job.preset, &job.layers);
+    preview.timings.extend([composite, image]);
+    Ok(preview)
 }
 
 fn lap(stage: &str, since: Instant) -> Timing {
@@ -372,15 +188,21 @@ fn lap(stage: &str, since: Instant) -> Timing {
 /// with nothing kept from earlier runs.
 ///
 /// # Errors
-/// As [`perspective::pipeline_with_quad`].
+/// As [`pipeline::run`].
 pub fn simulate(job: PreviewJob, progress: &Progress) -> Result<Preview> {
     Previewer::default().full(&job, progress)
 }
 
+/// Whether a preview simulated with `sim` can follow `next` by a restyle
+/// alone: the core makes no effect stale ([`effects::stale`]).
+pub fn restyles(sim: &Preset, next: &Preset) -> bool {
+    effects::stale(sim, next).is_empty()
+}
+
 impl Preview {
-    /// Applies stain colour and opacity, the number of rainfalls shown and
+    /// Applies the preset's restyle-only fields ([`Effect::restyle`]) and
     /// the layer settings, then re-composites. Call only when
-    /// [`needs_simulation`] is false.
+    /// [`restyles`] holds for the preset it was simulated with.
     pub fn restyle(&mut self, preset: &Preset, layers: &BTreeMap<String, LayerSetting>) {
         self.restyle_timed(preset, layers);
     }
@@ -408,73 +230,18 @@ impl Preview {
     }
 }
 
-/// True for the layers the rain makes ("rain 01", ...).
-pub fn is_rain_layer(name: &str) -> bool {
-    name.starts_with("rain ")
-}
-
+/// Puts each layer back as the pipeline made it, then lets its effect
+/// restyle it for `preset` (by kind, counting each effect's layers).
 fn style_stack(stack: &mut Stack, original: &[(f32, bool)], preset: &Preset) {
-    let mut rain_index = 0;
+    let mut index: BTreeMap<Effect, usize> = BTreeMap::new();
     for (layer, &(opacity, visible)) in stack.layers.iter_mut().zip(original) {
         layer.opacity = opacity;
         layer.visible = visible;
-        if is_rain_layer(&layer.name) {
-            layer.opacity = preset.stain.opacity;
-            if let LayerPixels::Tint { color, .. } = &mut layer.pixels {
-                *color = preset.stain.color;
-            }
-            layer.visible = rain_index < preset.rain.layers;
-            rain_index += 1;
+        if let Some(kind) = layer.kind {
+            let i = index.entry(kind).or_default();
+            kind.restyle(layer, *i, preset);
+            *i += 1;
         }
-    }
-}
-
-/// Preset fields a finished stack can follow without a new simulation.
-pub const RESTYLE_ONLY: &[&str] = &["stain.color", "stain.opacity"];
-
-/// Whether going from the preset a stack was simulated with to `next` needs
-/// a new simulation. Stain colour and opacity never do; fewer rainfalls do
-/// not either when the stack holds only rain layers (`only_rain`): each
-/// rainfall depends only on the ones before it, so the first N of M are the
-/// N-rainfall run. (Moss grows from the wall's state after the last one.)
-pub fn needs_simulation(sim: &Preset, next: &Preset, only_rain: bool) -> bool {
-    let (Ok(a), Ok(b)) = (toml::Value::try_from(sim), toml::Value::try_from(next)) else {
-        return true;
-    };
-    let mut changed = Vec::new();
-    diff_paths(&a, &b, String::new(), &mut changed);
-    changed.iter().any(|path| match path.as_str() {
-        p if RESTYLE_ONLY.contains(&p) => false,
-        "rain.layers" => next.rain.layers > sim.rain.layers || !only_rain,
-        _ => true,
-    })
-}
-
-/// Dotted paths of the leaves that differ between two TOML values.
-pub fn diff_paths(a: &toml::Value, b: &toml::Value, prefix: String, out: &mut Vec<String>) {
-    match (a, b) {
-        (toml::Value::Table(ta), toml::Value::Table(tb)) => {
-            for (k, va) in ta {
-                let path = if prefix.is_empty() {
-                    k.clone()
-                } else {
-                    format!("{prefix}.{k}")
-                };
-                match tb.get(k) {
-                    Some(vb) => diff_paths(va, vb, path, out),
-                    None => out.push(path),
-                }
-            }
-            for k in tb.keys().filter(|k| !ta.contains_key(*k)) {
-                out.push(if prefix.is_empty() {
-                    k.clone()
-                } else {
-                    format!("{prefix}.{k}")
-                });
-            }
-        }
-        _ if a != b => out.push(prefix),
-        _ => {}
     }
 }
 
@@ -494,10 +261,11 @@ pub fn to_color_image(img: &DynamicImage) -> ColorImage {
 /// One full-resolution export.
 #[derive(Debug, Clone)]
 pub struct ExportJob {
-    /// Full-size photo and mask.
+    /// Full-size photo, mask and quad.
     pub scene: Scene,
-    /// Perspective quad, photo pixels.
-    pub quad: Option<Quad>,
+    /// The files the document was loaded from (photo, mask, project), which
+    /// the export must not overwrite ([`age::guard`]).
+    pub from: Vec<PathBuf>,
     /// The preset with the document's source lines.
     pub preset: Preset,
     /// Layer visibility and opacity.
@@ -519,33 +287,27 @@ pub struct Exported {
     pub layers: usize,
 }
 
-/// Runs the pipeline at full resolution and saves the result.
+/// Ages the document at full resolution and saves it, through
+/// [`age::age_adjusted`] (which applies the layer settings).
 ///
 /// # Errors
-/// As [`perspective::pipeline_with_quad`] and [`export::save`].
+/// [`age::guard`]'s errors (an output that is an input, a missing folder,
+/// an unknown extension) before any work, then as [`age::age`].
 pub fn export(job: ExportJob, progress: &Progress) -> Result<Exported> {
     let inputs = age::Inputs {
         source: age::Source::Loaded {
             scene: job.scene,
-            from: Vec::new(),
+            from: job.from,
         },
         mask: None,
         normal_map: None,
-        quad: job.quad,
+        quad: None,
     };
     let outputs = age::Outputs {
         images: vec![job.path.clone()],
         ..age::Outputs::default()
     };
-    let adjust = |stack: &mut Stack| {
-        let original: Vec<_> = stack
-            .layers
-            .iter()
-            .map(|l| (l.opacity, l.visible))
-            .collect();
-        style_stack(stack, &original, &job.preset);
-        apply_layer_settings(&job.layers, stack);
-    };
+    let adjust = |stack: &mut Stack| apply_layer_settings(&job.layers, stack);
     let out = age::age_adjusted(&inputs, &job.preset, &outputs, progress, &adjust)?;
     Ok(Exported {
         path: job.path,
@@ -559,80 +321,10 @@ pub fn export(job: ExportJob, progress: &Progress) -> Result<Exported> {
 mod tests {
     use super::*;
 
-    /// Rain only: other effects (moss grows from the final wetness) depend on
-    /// the number of rainfalls. Effects a build lacks are skipped.
-    fn only_rain(stack: &Stack) -> bool {
-        stack.layers.iter().all(|l| is_rain_layer(&l.name))
-    }
-
     fn rain_only(p: &mut Preset) {
         for effect in ["moss", "dust"] {
             let _ = p.set(&format!("{effect}.enabled=false"));
         }
-    }
-
-    #[test]
-    fn proxy_is_about_one_megapixel_and_averages_the_mask() {
-        let photo = Arc::new(Photo::new(DynamicImage::ImageRgb8(image::RgbImage::new(
-            3000, 2000,
-        ))));
-        let mut mask = GrayImage::new(3000, 2000);
-        for y in 0..2000 {
-            for x in 0..1500 {
-                mask.put_pixel(x, y, image::Luma([255]));
-            }
-        }
-        let p = Proxy::new(&photo, &mask, PROXY_PIXELS);
-        let (w, h) = (p.photo.width(), p.photo.height());
-        assert!(
-            (w * h) as f64 / 1e6 > 0.95 && (w * h) as f64 / 1e6 < 1.05,
-            "{w}x{h}"
-        );
-        assert_eq!(p.mask.dimensions(), (w, h));
-        assert_eq!(p.mask.get_pixel(10, 10)[0], 255);
-        assert_eq!(p.mask.get_pixel(w - 10, 10)[0], 0);
-        let mid = p.mask.get_pixel(w / 2, 10)[0];
-        assert!(mid > 0, "edge is averaged: {mid}");
-        assert_eq!(p.to_proxy([3000.0, 2000.0]), [w as f32, h as f32]);
-        let small = Proxy::new(
-            &Arc::new(Photo::new(DynamicImage::ImageRgb8(image::RgbImage::new(
-                100, 80,
-            )))),
-            &GrayImage::new(100, 80),
-            PROXY_PIXELS,
-        );
-        assert!(small.is_full_size());
-    }
-
-    #[test]
-    fn what_needs_a_new_simulation() {
-        let d = crate::demo::facade(64, 48);
-        let scene = Scene::new(d.photo, d.region).unwrap();
-        let mut sim = Preset::default();
-        sim.rain.layers = 3;
-        sim.rain.droplets = 50;
-        rain_only(&mut sim);
-        let stack = crate::pipeline::run(&scene, &sim, &Progress::none())
-            .unwrap()
-            .stack;
-        let mut next = sim.clone();
-        next.stain.opacity = 0.3;
-        next.stain.color = [10, 20, 30];
-        assert!(!needs_simulation(&sim, &next, only_rain(&stack)));
-        next.rain.layers = 2;
-        assert!(
-            !needs_simulation(&sim, &next, only_rain(&stack)),
-            "fewer rainfalls: hide the last ones"
-        );
-        assert!(
-            needs_simulation(&sim, &next, false),
-            "unless other layers depend on them"
-        );
-        next.rain.layers = 4;
-        assert!(needs_simulation(&sim, &next, only_rain(&stack)));
-        let mut k = sim.clone();
-        k.rain.k_a = 0.9;
-        assert!(needs_simulation(&sim, &k, only_rain(&stack)));
     }
 
     #[test]
@@ -666,7 +358,6 @@ mod tests {
         edit(&mut p);
         PreviewJob {
             scene: Scene::new(d.photo, d.region).unwrap(),
-            quad: None,
             preset: p,
             layers: BTreeMap::new(),
         }
@@ -738,35 +429,67 @@ mod tests {
         );
     }
 
+    /// Whether the pass kept `effect`'s output from the run before.
+    fn kept(p: &Preview, effect: &str) -> bool {
+        p.timings
+            .iter()
+            .any(|t| t.stage == format!("{effect} (kept)"))
+    }
+
     #[test]
-    fn kept_dust_matches_a_fresh_run() {
+    fn kept_effects_match_a_fresh_run() {
         let mut previewer = Previewer::default();
         let a = facade_job(240, 180, |p| p.rain.k_a = 0.5);
         let first = previewer.full(&a, &Progress::none()).unwrap();
-        assert!(first.layer_names().iter().any(|n| is_dust_layer(n)));
+        assert!(
+            first
+                .stack
+                .layers
+                .iter()
+                .any(|l| l.kind == Some(Effect::Dust))
+        );
+        assert!(!kept(&first, "dust"));
         // A rain change: the dust is kept, the picture is the fresh run's.
         let mut b = facade_job(240, 180, |p| p.rain.k_a = 0.6);
-        let kept = previewer.full(&b, &Progress::none()).unwrap();
-        assert!(kept.timings.iter().any(|t| t.stage == "dust (kept)"));
+        b.scene = a.scene.clone(); // the same buffers, as the GUI's proxy
+        let same_dust = previewer.full(&b, &Progress::none()).unwrap();
+        assert!(kept(&same_dust, "dust") && !kept(&same_dust, "rain"));
         let fresh = simulate(b.clone(), &Progress::none()).unwrap();
-        assert_eq!(kept.layer_names(), fresh.layer_names());
-        assert_eq!(kept.image, fresh.image);
-        // A dust change or another region: the dust is made again.
+        assert_eq!(same_dust.layer_names(), fresh.layer_names());
+        assert_eq!(same_dust.image, fresh.image);
+        // A dust change: only the dust is made again.
         b.preset.dust.days += 30;
         let redone = previewer.full(&b, &Progress::none()).unwrap();
-        assert!(!redone.timings.iter().any(|t| t.stage == "dust (kept)"));
+        assert!(!kept(&redone, "dust"));
+        assert!(kept(&redone, "rain") && kept(&redone, "moss"));
         assert_eq!(
             redone.image,
             simulate(b.clone(), &Progress::none()).unwrap().image
         );
+        // Another region: everything is made again.
         let mut region = (*b.scene.region.clone().unwrap()).clone();
         for px in region.pixels_mut().take(20_000) {
             px[0] = 0;
         }
-        b.scene.region = Some(Arc::new(region));
+        b.scene = Scene::shared(Arc::clone(&b.scene.photo), Some(Arc::new(region))).unwrap();
         let other = previewer.full(&b, &Progress::none()).unwrap();
-        assert!(!other.timings.iter().any(|t| t.stage == "dust (kept)"));
+        assert!(!kept(&other, "dust") && !kept(&other, "rain"));
         assert_eq!(other.image, simulate(b, &Progress::none()).unwrap().image);
+    }
+
+    #[test]
+    fn a_dust_change_skips_the_quick_pass() {
+        let mut previewer = Previewer::default();
+        let mut job = facade_job(480, 360, |_| {});
+        assert!(previewer.quick(&job, &Progress::none()).is_some());
+        previewer.full(&job, &Progress::none()).unwrap();
+        job.preset.dust.days += 30;
+        assert!(
+            previewer.quick(&job, &Progress::none()).is_none(),
+            "only the dust re-runs: the full pass is quick"
+        );
+        job.preset.rain.k_a *= 0.5;
+        assert!(previewer.quick(&job, &Progress::none()).is_some());
     }
 
     #[test]
@@ -781,7 +504,6 @@ mod tests {
             rain_only(&mut p);
             PreviewJob {
                 scene: Scene::new(d.photo.clone(), d.region.clone()).unwrap(),
-                quad: None,
                 preset: p,
                 layers: BTreeMap::new(),
             }
@@ -789,11 +511,7 @@ mod tests {
         let mut a = simulate(job(4, 0.8), &Progress::none()).unwrap();
         let fresh = simulate(job(2, 0.5), &Progress::none()).unwrap();
         let target = job(2, 0.5).preset;
-        assert!(!needs_simulation(
-            &a.sim_preset,
-            &target,
-            only_rain(&a.stack)
-        ));
+        assert!(restyles(&a.sim_preset, &target));
         a.restyle(&target, &BTreeMap::new());
         assert_eq!(a.image, fresh.image);
     }

@@ -148,12 +148,12 @@ impl Document {
         Ok(())
     }
 
-    /// Loads a project and its photo.
+    /// Loads a project, its photo, and the path of its mask file.
     ///
     /// # Errors
     /// [`ProjectError`] for an unreadable or malformed project, a photo that
     /// cannot be loaded or a mask of the wrong size.
-    pub fn load_project(path: &Path) -> Result<(Document, Photo), ProjectError> {
+    pub fn load_project(path: &Path) -> Result<(Document, Photo, PathBuf), ProjectError> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
         let file: ProjectFile = serde_json::from_str(&text).map_err(|e| ProjectError::Format {
             path: path.to_path_buf(),
@@ -185,7 +185,8 @@ impl Document {
             }
             ImageSource::Demo(name) => (ImageSource::Demo(name.clone()), demo::load(name)?.photo),
         };
-        let mask = io::load_mask(&dir.join(&file.mask), photo.width(), photo.height())?;
+        let mask_path = dir.join(&file.mask);
+        let mask = io::load_mask(&mask_path, photo.width(), photo.height())?;
         let doc = Document {
             source,
             mask,
@@ -194,7 +195,7 @@ impl Document {
             preset: file.preset,
             layers: file.layers,
         };
-        Ok((doc, photo))
+        Ok((doc, photo, mask_path))
     }
 }
 
@@ -299,7 +300,8 @@ mod tests {
             text.contains("\"wall.png\""),
             "image path is relative: {text}"
         );
-        let (back, photo) = Document::load_project(&project).unwrap();
+        let (back, photo, mask) = Document::load_project(&project).unwrap();
+        assert_eq!(mask, dir.path().join("facade.mask.png"));
         assert_eq!((photo.width(), photo.height()), (64, 48));
         assert_eq!(back.mask, doc.mask);
         assert_eq!(back.lines, doc.lines);
