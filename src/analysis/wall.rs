@@ -1,0 +1,333 @@
+//! What is wall: sky, vegetation, ground and window glass are found from
+//! colour and texture statistics and where they sit (sky touches the top,
+//! ground the bottom, glass forms dark compact blobs); the rest is wall. The
+//! hard labels become a soft matte with a guided filter (He, Sun and Tang,
+//! "Guided image filtering", 2010, eqs. (7)-(8)) on the photo's luma.
+
+use std::collections::VecDeque;
+
+use image::GrayImage;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::features::{Features, box_mean};
+
+/// What an analysis pixel shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Class {
+    /// The wall (frames and sills included).
+    Wall,
+    /// Sky.
+    Sky,
+    /// Trees, bushes, grass.
+    Vegetation,
+    /// Window glass.
+    Glass,
+    /// Road, pavement.
+    Ground,
+}
+
+impl Class {
+    /// Label for the overlay.
+    pub fn label(self) -> &'static str {
+        match self {
+            Class::Wall => "wall",
+            Class::Sky => "sky",
+            Class::Vegetation => "vegetation",
+            Class::Glass => "glass",
+            Class::Ground => "ground",
+        }
+    }
+}
+
+/// Below this share of non-wall pixels the photo is a close-up: all wall.
+const CLOSE_UP: f32 = 0.02;
+
+/// Labels every analysis pixel.
+pub fn classify(f: &Features) -> Vec<Class> {
+    let (w, h) = (f.w, f.h);
+    let n = w * h;
+    let mut class = vec![Class::Wall; n];
+    let sat = |i: usize| {
+        let [r, g, b] = f.rgb_at(i);
+        let mx = r.max(g).max(b);
+        if mx <= 1e-3 {
+            0.0
+        } else {
+            (mx - r.min(g).min(b)) / mx
+        }
+    };
+    // Sky: bright, smooth, bluish or white-grey, connected to the top edge.
+    let sky_cand: Vec<bool> = (0..n)
+        .map(|i| {
+            let [r, g, b] = f.rgb_at(i);
+            let l = f.luma[i];
+            let t = f.texture[i];
+            let blue = b - r > 0.03 && b >= g - 0.03;
+            t < 0.035 && ((l > 0.35 && blue) || (l > 0.62 && sat(i) < 0.16))
+        })
+        .collect();
+    let sky = flood(&sky_cand, w, h, (0..w).collect::<Vec<_>>());
+    for i in 0..n {
+        if sky[i] {
+            class[i] = Class::Sky;
+        }
+    }
+    // Vegetation: green excess, smoothed to a majority vote.
+    let veg_cand: Vec<f32> = (0..n)
+        .map(|i| {
+            let [r, g, b] = f.rgb_at(i);
+            let exg = (2.0 * g - r - b) / (r + g + b + 0.05);
+            (exg > 0.07 && g > r && g > b * 0.9) as u8 as f32
+        })
+        .collect();
+    let veg = box_mean(&veg_cand, w, h, (w.max(h) / 200).max(1));
+    for i in 0..n {
+        if veg[i] > 0.5 && class[i] == Class::Wall {
+            class[i] = Class::Vegetation;
+        }
+    }
+    ground(f, &mut class);
+    glass(f, &mut class);
+    let other = class.iter().filter(|&&c| c != Class::Wall).count();
+    if (other as f32) < CLOSE_UP * n as f32 {
+        class.iter_mut().for_each(|c| *c = Class::Wall);
+    }
+    class
+}
+
+/// Pixels of `cand` 4-connected to the seeds (indices into the row-major grid).
+fn flood(cand: &[bool], w: usize, h: usize, seeds: Vec<usize>) -> Vec<bool> {
+    let mut seen = vec![false; w * h];
+    let mut queue: VecDeque<usize> = VecDeque::new();
+    for s in seeds {
+        if cand[s] && !seen[s] {
+            seen[s] = true;
+            queue.push_back(s);
+        }
+    }
+    while let Some(i) = queue.pop_front() {
+        let (x, y) = (i % w, i / w);
+        let mut visit = |j: usize| {
+            if cand[j] && !seen[j] {
+                seen[j] = true;
+                queue.push_back(j);
+            }
+        };
+        if x > 0 {
+            visit(i - 1);
+        }
+        if x + 1 < w {
+            visit(i + 1);
+        }
+        if y > 0 {
+            visit(i - w);
+        }
+        if y + 1 < h {
+            visit(i + w);
+        }
+    }
+    seen
+}
+
+/// Ground: smooth, unsaturated, like the bottom rows' colour, connected to
+/// the bottom edge, in the lower part of the photo. Refused when it looks
+/// like the wall just above it (a close-up's texture reaches the bottom too).
+fn ground(f: &Features, class: &mut [Class]) {
+    let (w, h) = (f.w, f.h);
+    let band = (h / 20).max(1);
+    let mut bottom: Vec<[f32; 3]> = ((h - band) * w..h * w)
+        .filter(|&i| class[i] == Class::Wall)
+        .map(|i| f.rgb_at(i))
+        .collect();
+    if bottom.len() < w / 4 {
+        return;
+    }
+    let model = median3(&mut bottom);
+    let top = h * 45 / 100;
+    let cand: Vec<bool> = (0..w * h)
+        .map(|i| {
+            let c = f.rgb_at(i);
+            let d = (0..3).map(|k| (c[k] - model[k]).abs()).sum::<f32>();
+            i / w >= top && class[i] == Class::Wall && f.texture[i] < 0.05 && d < 0.2
+        })
+        .collect();
+    let seeds: Vec<usize> = ((h - 1) * w..h * w).collect();
+    let g = flood(&cand, w, h, seeds);
+    let count = g.iter().filter(|&&v| v).count();
+    if count == 0 {
+        return;
+    }
+    // Compare with the wall just above the ground's upper boundary.
+    let mut above = Vec::new();
+    let mut inside = Vec::new();
+    for x in 0..w {
+        if let Some(y) = (0..h).find(|&y| g[y * w + x]) {
+            let ya = y.saturating_sub(h / 12);
+            if class[ya * w + x] == Class::Wall && !g[ya * w + x] {
+                above.push(f.rgb_at(ya * w + x));
+            }
+            let yi = (y + h / 24).min(h - 1);
+            if g[yi * w + x] {
+                inside.push(f.rgb_at(yi * w + x));
+            }
+        }
+    }
+    if above.len() > w / 4 && !inside.is_empty() {
+        let (a, b) = (median3(&mut above), median3(&mut inside));
+        let d = (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>();
+        if d < 0.06 {
+            return;
+        }
+    }
+    for (c, &is) in class.iter_mut().zip(&g) {
+        if is {
+            *c = Class::Ground;
+        }
+    }
+}
+
+fn median3(v: &mut [[f32; 3]]) -> [f32; 3] {
+    let mut out = [0.0; 3];
+    for (k, o) in out.iter_mut().enumerate() {
+        let mut c: Vec<f32> = v.iter().map(|p| p[k]).collect();
+        c.sort_by(f32::total_cmp);
+        *o = c[c.len() / 2];
+    }
+    out
+}
+
+/// Window glass: compact, smooth blobs much darker than the wall, of a
+/// window's size, not touching the photo's edge.
+fn glass(f: &Features, class: &mut [Class]) {
+    let (w, h) = (f.w, f.h);
+    let mut wall_l: Vec<f32> = (0..w * h)
+        .filter(|&i| class[i] == Class::Wall)
+        .map(|i| f.luma[i])
+        .collect();
+    if wall_l.len() < w * h / 10 {
+        return;
+    }
+    wall_l.sort_by(f32::total_cmp);
+    let median = wall_l[wall_l.len() / 2];
+    let cand: Vec<bool> = (0..w * h)
+        .map(|i| class[i] == Class::Wall && f.luma[i] < 0.62 * median && f.texture[i] < 0.08)
+        .collect();
+    let mut label = vec![0u32; w * h];
+    let mut next = 0u32;
+    let n = (w * h) as f32;
+    for start in 0..w * h {
+        if !cand[start] || label[start] != 0 {
+            continue;
+        }
+        next += 1;
+        let mut members = vec![start];
+        label[start] = next;
+        let mut k = 0;
+        let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
+        while k < members.len() {
+            let i = members[k];
+            k += 1;
+            let (x, y) = (i % w, i / w);
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+            let mut visit = |j: usize| {
+                if cand[j] && label[j] == 0 {
+                    label[j] = next;
+                    members.push(j);
+                }
+            };
+            if x > 0 {
+                visit(i - 1);
+            }
+            if x + 1 < w {
+                visit(i + 1);
+            }
+            if y > 0 {
+                visit(i - w);
+            }
+            if y + 1 < h {
+                visit(i + w);
+            }
+        }
+        let (bw, bh) = ((x1 - x0 + 1) as f32, (y1 - y0 + 1) as f32);
+        let area = members.len() as f32;
+        let fits = area > 0.0004 * n
+            && area < 0.06 * n
+            && area > 0.45 * bw * bh
+            && (0.25..=5.0).contains(&(bh / bw))
+            && x0 > 0
+            && y0 > 0
+            && x1 + 1 < w
+            && y1 + 1 < h;
+        if fits {
+            for &i in &members {
+                class[i] = Class::Glass;
+            }
+        }
+    }
+}
+
+/// The wall as a soft matte (0..1) at analysis resolution: the hard labels
+/// through a guided filter on luma, He et al. eqs. (7)-(8).
+pub fn refine(f: &Features, class: &[Class]) -> Vec<f32> {
+    let (w, h) = (f.w, f.h);
+    let p: Vec<f32> = class
+        .iter()
+        .map(|&c| (c == Class::Wall) as u8 as f32)
+        .collect();
+    if p.iter().all(|&v| v == 1.0) || p.iter().all(|&v| v == 0.0) {
+        return p;
+    }
+    let r = (w.max(h) / 300).max(2);
+    let eps = 0.004;
+    let i = &f.luma;
+    let mean_i = box_mean(i, w, h, r);
+    let mean_p = box_mean(&p, w, h, r);
+    let ip: Vec<f32> = i.iter().zip(&p).map(|(a, b)| a * b).collect();
+    let ii: Vec<f32> = i.iter().map(|a| a * a).collect();
+    let corr_ip = box_mean(&ip, w, h, r);
+    let corr_ii = box_mean(&ii, w, h, r);
+    let n = w * h;
+    let mut a = vec![0f32; n];
+    let mut b = vec![0f32; n];
+    for k in 0..n {
+        let var = corr_ii[k] - mean_i[k] * mean_i[k];
+        let cov = corr_ip[k] - mean_i[k] * mean_p[k];
+        a[k] = cov / (var + eps); // eq. (7)
+        b[k] = mean_p[k] - a[k] * mean_i[k]; // eq. (8)
+    }
+    let ma = box_mean(&a, w, h, r);
+    let mb = box_mean(&b, w, h, r);
+    (0..n)
+        .map(|k| (ma[k] * i[k] + mb[k]).clamp(0.0, 1.0))
+        .collect()
+}
+
+/// The matte at the photo's size (bilinear).
+pub fn upsample(small: &[f32], f: &Features, pw: u32, ph: u32) -> GrayImage {
+    let (w, h) = (f.w, f.h);
+    let mut out = vec![0u8; pw as usize * ph as usize];
+    let xs: Vec<(usize, usize, f32)> = (0..pw as usize)
+        .map(|x| tap((x as f32 + 0.5) / f.sx - 0.5, w))
+        .collect();
+    out.par_chunks_mut(pw as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            let (y0, y1, ty) = tap((y as f32 + 0.5) / f.sy - 0.5, h);
+            let (r0, r1) = (&small[y0 * w..(y0 + 1) * w], &small[y1 * w..(y1 + 1) * w]);
+            for (o, &(x0, x1, tx)) in row.iter_mut().zip(&xs) {
+                let top = r0[x0] + (r0[x1] - r0[x0]) * tx;
+                let bot = r1[x0] + (r1[x1] - r1[x0]) * tx;
+                *o = ((top + (bot - top) * ty) * 255.0).round() as u8;
+            }
+        });
+    GrayImage::from_raw(pw, ph, out).expect("buffer has the photo's size")
+}
+
+/// The two neighbours of continuous coordinate `c` in `0..n` and the weight of the second.
+fn tap(c: f32, n: usize) -> (usize, usize, f32) {
+    let c = c.clamp(0.0, (n - 1) as f32);
+    let a = c.floor() as usize;
+    (a, (a + 1).min(n - 1), c - a as f32)
+}
