@@ -46,8 +46,19 @@ fn main() -> anyhow::Result<()> {
         let a = analysis::analyse(photo, &opts).ok();
         if let (Some(dir), Some(a)) = (&dump, &a) {
             a.overlay(photo)
-                .save(dir.join(format!("{name}.jpg")))
+                .save(dir.join(format!("{name}.png")))
                 .with_context(|| dir.display().to_string())?;
+            let (w, h) = (a.analysis_width, a.analysis_height);
+            let colours = image::RgbImage::from_fn(w, h, |x, y| {
+                image::Rgb(match a.classes[(y * w + x) as usize] {
+                    analysis::Class::Wall => [128, 0, 0],
+                    analysis::Class::Sky => [0, 128, 128],
+                    analysis::Class::Vegetation => [0, 128, 0],
+                    analysis::Class::Glass => [0, 0, 128],
+                    analysis::Class::Ground => [128, 128, 128],
+                })
+            });
+            colours.save(dir.join(format!("{name}-classes.png")))?;
         }
         m.add(a.as_ref(), truth);
     }

@@ -120,7 +120,11 @@ pub fn detect(f: &Features, class: &[Class]) -> Vec<Ledge> {
         }
     }
     let chains = trace(&edge, &step, w, h);
-    let lines = join(chains, w);
+    let mut lines = join(chains, w);
+    // A close-up (all wall) is texture: only long ledges are sources there.
+    if class.iter().all(|&c| c == Class::Wall) {
+        lines.retain(|fit| fit.span() >= 0.25 * w as f32);
+    }
     let mut out: Vec<Ledge> = lines
         .iter()
         .map(|fit| {

@@ -131,15 +131,19 @@ fn flood(cand: &[bool], w: usize, h: usize, seeds: Vec<usize>) -> Vec<bool> {
     seen
 }
 
-/// Ground: smooth, unsaturated, like the bottom rows' colour, connected to
-/// the bottom edge, in the lower part of the photo. Refused when it looks
-/// like the wall just above it (a close-up's texture reaches the bottom too).
+/// Ground: unsaturated, like the bottom rows' colour (smoothed), not too
+/// textured, connected to the bottom edge, below 45% of the height. Refused
+/// when it only stops at that limit and looks like what lies above it (a
+/// close-up's texture reaches the bottom too).
 fn ground(f: &Features, class: &mut [Class]) {
     let (w, h) = (f.w, f.h);
     let band = (h / 20).max(1);
+    let r = (w.max(h) / 150).max(1);
+    let smooth: Vec<Vec<f32>> = f.rgb.iter().map(|p| box_mean(p, w, h, r)).collect();
+    let at = |i: usize| [smooth[0][i], smooth[1][i], smooth[2][i]];
     let mut bottom: Vec<[f32; 3]> = ((h - band) * w..h * w)
         .filter(|&i| class[i] == Class::Wall)
-        .map(|i| f.rgb_at(i))
+        .map(at)
         .collect();
     if bottom.len() < w / 4 {
         return;
@@ -148,38 +152,52 @@ fn ground(f: &Features, class: &mut [Class]) {
     let top = h * 45 / 100;
     let cand: Vec<bool> = (0..w * h)
         .map(|i| {
-            let c = f.rgb_at(i);
+            let c = at(i);
             let d = (0..3).map(|k| (c[k] - model[k]).abs()).sum::<f32>();
-            i / w >= top && class[i] == Class::Wall && f.texture[i] < 0.05 && d < 0.2
+            let (mx, mn) = (c[0].max(c[1]).max(c[2]), c[0].min(c[1]).min(c[2]));
+            let sat = (mx - mn) / mx.max(1e-3);
+            i / w >= top
+                && class[i] == Class::Wall
+                && f.texture[i] < GROUND_TEXTURE
+                && sat < 0.3
+                && d < 0.25
         })
         .collect();
-    let seeds: Vec<usize> = ((h - 1) * w..h * w).collect();
-    let g = flood(&cand, w, h, seeds);
-    let count = g.iter().filter(|&&v| v).count();
-    if count == 0 {
-        return;
+    // Each stretch of the bottom row is a seed; only wide ones (a road, not
+    // the foot of a brick) make ground.
+    let mut g = vec![false; w * h];
+    let mut x = 0;
+    while x < w {
+        let start = x;
+        while x < w && cand[(h - 1) * w + x] {
+            x += 1;
+        }
+        if x - start >= w / 8 {
+            let part = flood(&cand, w, h, ((h - 1) * w + start..(h - 1) * w + x).collect());
+            g.iter_mut().zip(&part).for_each(|(a, &b)| *a |= b);
+        }
+        x += 1;
     }
-    // Compare with the wall just above the ground's upper boundary.
+    // Where does the ground end in each column, and what lies above it?
+    let (mut at_cap, mut cols) = (0, 0);
     let mut above = Vec::new();
     let mut inside = Vec::new();
     for x in 0..w {
-        if let Some(y) = (0..h).find(|&y| g[y * w + x]) {
+        if let Some(y) = (top..h).find(|&y| g[y * w + x]) {
+            cols += 1;
+            at_cap += (y == top) as usize;
             let ya = y.saturating_sub(h / 12);
-            if class[ya * w + x] == Class::Wall && !g[ya * w + x] {
-                above.push(f.rgb_at(ya * w + x));
-            }
-            let yi = (y + h / 24).min(h - 1);
-            if g[yi * w + x] {
-                inside.push(f.rgb_at(yi * w + x));
-            }
+            above.push(at(ya * w + x));
+            inside.push(at((y + h / 24).min(h - 1) * w + x));
         }
     }
-    if above.len() > w / 4 && !inside.is_empty() {
-        let (a, b) = (median3(&mut above), median3(&mut inside));
-        let d = (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>();
-        if d < 0.06 {
-            return;
-        }
+    if cols == 0 {
+        return;
+    }
+    let (a, b) = (median3(&mut above), median3(&mut inside));
+    let d = (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>();
+    if at_cap * 2 > cols && d < 0.1 {
+        return;
     }
     for (c, &is) in class.iter_mut().zip(&g) {
         if is {
@@ -187,6 +205,9 @@ fn ground(f: &Features, class: &mut [Class]) {
         }
     }
 }
+
+/// Ground this textured (mean luma gradient) or more is not ground.
+const GROUND_TEXTURE: f32 = 0.15;
 
 fn median3(v: &mut [[f32; 3]]) -> [f32; 3] {
     let mut out = [0.0; 3];
