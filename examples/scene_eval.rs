@@ -5,7 +5,8 @@
 //! cargo run --release --example scene_eval -- cmp DIR             # DIR has cmp_bNNNN.jpg + .png
 //! cargo run --release --example scene_eval -- synthetic N
 //! ```
-//! Add `--dump OUT` to write each photo's overlay into OUT.
+//! Add `--dump OUT` to write each photo's overlay and classes into OUT,
+//! `--each` to print each photo's numbers.
 //! The datasets are research-only: keep them outside the repository.
 
 use std::path::{Path, PathBuf};
@@ -61,6 +62,17 @@ fn main() -> anyhow::Result<()> {
             colours.save(dir.join(format!("{name}-classes.png")))?;
         }
         m.add(a.as_ref(), truth);
+        if args.iter().any(|a| a == "--each") {
+            let mut one = Metrics::default();
+            one.add(a.as_ref(), truth);
+            println!(
+                "{name}: iou {:.2} spill {:.2} sky {:.2} ({} sky px)",
+                one.mean_iou(),
+                one.spill(),
+                one.sky_spill(),
+                one.sky
+            );
+        }
     }
     print!("{}", m.report());
     Ok(())

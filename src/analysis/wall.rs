@@ -64,8 +64,8 @@ pub fn classify(f: &Features) -> Vec<Class> {
             let [r, g, b] = f.rgb_at(i);
             let l = f.luma[i];
             let t = f.texture[i];
-            let blue = b - r > 0.03 && b >= g - 0.03;
-            t < 0.035 && ((l > 0.35 && blue) || (l > 0.62 && sat(i) < 0.16))
+            let blue = b - r > 0.03 && b >= g - 0.03 && b > 0.35;
+            t < 0.035 && (blue || (l > 0.62 && sat(i) < 0.16))
         })
         .collect();
     let sky = flood(&sky_cand, w, h, (0..w).collect::<Vec<_>>());
