@@ -109,42 +109,41 @@ fn span(o: usize, n: usize, len: usize) -> (usize, usize) {
     (a, b)
 }
 
-/// Mean over a (2r+1)^2 box, clipped at the borders (separable running sums).
+/// Mean over a (2r+1)^2 box, clipped at the borders (separable running
+/// sums: rows, then a sliding sum of whole rows).
 pub fn box_mean(src: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
     let mut tmp = vec![0f32; w * h];
+    let mut prefix = vec![0f64; w + 1];
     for y in 0..h {
-        running(&src[y * w..(y + 1) * w], &mut tmp[y * w..(y + 1) * w], r);
-    }
-    let mut col = vec![0f32; h];
-    let mut out_col = vec![0f32; h];
-    let mut out = vec![0f32; w * h];
-    for x in 0..w {
-        for y in 0..h {
-            col[y] = tmp[y * w + x];
+        let row = &src[y * w..(y + 1) * w];
+        for x in 0..w {
+            prefix[x + 1] = prefix[x] + row[x] as f64;
         }
-        running(&col, &mut out_col, r);
-        for y in 0..h {
-            out[y * w + x] = out_col[y];
+        for (x, t) in tmp[y * w..(y + 1) * w].iter_mut().enumerate() {
+            let (a, b) = (x.saturating_sub(r), (x + r + 1).min(w));
+            *t = ((prefix[b] - prefix[a]) / (b - a) as f64) as f32;
+        }
+    }
+    let mut acc = vec![0f64; w];
+    let mut out = vec![0f32; w * h];
+    for row in tmp.chunks_exact(w).take(r.min(h)) {
+        acc.iter_mut().zip(row).for_each(|(a, &v)| *a += v as f64);
+    }
+    for y in 0..h {
+        if y + r < h {
+            let add = &tmp[(y + r) * w..(y + r + 1) * w];
+            acc.iter_mut().zip(add).for_each(|(a, &v)| *a += v as f64);
+        }
+        if y > r {
+            let sub = &tmp[(y - r - 1) * w..(y - r) * w];
+            acc.iter_mut().zip(sub).for_each(|(a, &v)| *a -= v as f64);
+        }
+        let n = ((y + r + 1).min(h) - y.saturating_sub(r)) as f64;
+        for (o, &a) in out[y * w..(y + 1) * w].iter_mut().zip(&acc) {
+            *o = (a / n) as f32;
         }
     }
     out
-}
-
-/// 1-D box mean of radius `r`, clipped at the ends.
-fn running(src: &[f32], dst: &mut [f32], r: usize) {
-    let n = src.len();
-    let mut prefix = Vec::with_capacity(n + 1);
-    let mut s = 0f64;
-    prefix.push(0f64);
-    for &v in src {
-        s += v as f64;
-        prefix.push(s);
-    }
-    for (i, d) in dst.iter_mut().enumerate() {
-        let a = i.saturating_sub(r);
-        let b = (i + r + 1).min(n);
-        *d = ((prefix[b] - prefix[a]) / (b - a) as f64) as f32;
-    }
 }
 
 #[cfg(test)]

@@ -41,6 +41,9 @@ impl Class {
     }
 }
 
+/// Sky is smoother than this (mean luma gradient).
+const SKY_TEXTURE: f32 = 0.05;
+
 /// Below this share of non-wall pixels the photo is a close-up: all wall.
 const CLOSE_UP: f32 = 0.02;
 
@@ -65,7 +68,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
             let l = f.luma[i];
             let t = f.texture[i];
             let blue = b - r > 0.03 && b >= g - 0.03 && b > 0.35;
-            t < 0.035 && (blue || (l > 0.62 && sat(i) < 0.16))
+            t < SKY_TEXTURE && (blue || (l > 0.62 && sat(i) < 0.16))
         })
         .collect();
     let sky = flood(&sky_cand, w, h, (0..w).collect::<Vec<_>>());
