@@ -62,16 +62,25 @@ pub fn classify(f: &Features) -> Vec<Class> {
         }
     };
     // Sky: bright, smooth, bluish or white-grey, connected to the top edge.
-    let sky_cand: Vec<bool> = (0..n)
+    let sky_colour: Vec<bool> = (0..n)
         .map(|i| {
             let [r, g, b] = f.rgb_at(i);
-            let l = f.luma[i];
-            let t = f.texture[i];
             let blue = b - r > 0.03 && b >= g - 0.03 && b > 0.35;
-            t < SKY_TEXTURE && (blue || (l > 0.62 && sat(i) < 0.16))
+            blue || (f.luma[i] > 0.62 && sat(i) < 0.16)
         })
         .collect();
-    let sky = flood(&sky_cand, w, h, (0..w).collect::<Vec<_>>());
+    let sky_cand: Vec<bool> = (0..n)
+        .map(|i| sky_colour[i] && f.texture[i] < SKY_TEXTURE)
+        .collect();
+    // Sky is smooth: the fill does not cross a colour step (a roof edge).
+    let smooth_step = |i: usize, j: usize| {
+        let (a, b) = (f.rgb_at(i), f.rgb_at(j));
+        (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>() < 0.08
+    };
+    let core = flood(&sky_cand, w, h, (0..w).collect(), smooth_step);
+    // Then up to the roof edge, where the texture window already sees the roof.
+    let seeds = (0..n).filter(|&i| core[i]).collect();
+    let sky = flood(&sky_colour, w, h, seeds, smooth_step);
     for i in 0..n {
         if sky[i] {
             class[i] = Class::Sky;
@@ -100,8 +109,15 @@ pub fn classify(f: &Features) -> Vec<Class> {
     class
 }
 
-/// Pixels of `cand` 4-connected to the seeds (indices into the row-major grid).
-fn flood(cand: &[bool], w: usize, h: usize, seeds: Vec<usize>) -> Vec<bool> {
+/// Pixels of `cand` 4-connected to the seeds (indices into the row-major
+/// grid) through steps `step_ok(from, to)` allows.
+fn flood(
+    cand: &[bool],
+    w: usize,
+    h: usize,
+    seeds: Vec<usize>,
+    step_ok: impl Fn(usize, usize) -> bool,
+) -> Vec<bool> {
     let mut seen = vec![false; w * h];
     let mut queue: VecDeque<usize> = VecDeque::new();
     for s in seeds {
@@ -113,7 +129,7 @@ fn flood(cand: &[bool], w: usize, h: usize, seeds: Vec<usize>) -> Vec<bool> {
     while let Some(i) = queue.pop_front() {
         let (x, y) = (i % w, i / w);
         let mut visit = |j: usize| {
-            if cand[j] && !seen[j] {
+            if cand[j] && !seen[j] && step_ok(i, j) {
                 seen[j] = true;
                 queue.push_back(j);
             }
@@ -176,7 +192,8 @@ fn ground(f: &Features, class: &mut [Class]) {
             x += 1;
         }
         if x - start >= w / 8 {
-            let part = flood(&cand, w, h, ((h - 1) * w + start..(h - 1) * w + x).collect());
+            let seeds = ((h - 1) * w + start..(h - 1) * w + x).collect();
+            let part = flood(&cand, w, h, seeds, |_, _| true);
             g.iter_mut().zip(&part).for_each(|(a, &b)| *a |= b);
         }
         x += 1;
@@ -279,7 +296,7 @@ fn glass(f: &Features, class: &mut [Class]) {
         let fits = area > 0.0004 * n
             && area < 0.06 * n
             && area > 0.45 * bw * bh
-            && (0.25..=5.0).contains(&(bh / bw))
+            && (0.2..=8.0).contains(&(bh / bw))
             && x0 > 0
             && y0 > 0
             && x1 + 1 < w
