@@ -26,7 +26,19 @@ pub fn estimate(f: &Features, class: &[Class], ledges: &[Ledge], wall_width_m: O
     if let Some(m) = wall_width_m.filter(|m| m.is_finite() && *m > 0.0) {
         return Scale { metres_per_pixel: m / wall_cols, source: ScaleSource::UserWidth };
     }
-    for kind in [LedgeKind::Sill, LedgeKind::WindowHead] {
+    // Rows of windows: the tops of the glass blobs.
+    let glass: Vec<u8> = class.iter().map(|&c| (c == Class::Glass) as u8).collect();
+    let tops: Vec<f32> = super::eval::components(&glass, w, h, &[1], (w * h) / 5000)
+        .iter()
+        .map(|b| b.y0 * f.sy)
+        .collect();
+    if let Some(storey) = storey_px(tops, h as f32 * f.sy) {
+        return Scale {
+            metres_per_pixel: STOREY_M / storey,
+            source: ScaleSource::StoreyHeight,
+        };
+    }
+    for kind in [LedgeKind::WindowHead, LedgeKind::Sill] {
         let ys: Vec<f32> = ledges
             .iter()
             .filter(|l| l.kind == kind)
