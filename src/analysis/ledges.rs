@@ -125,6 +125,7 @@ pub fn detect(f: &Features, class: &[Class]) -> Vec<Ledge> {
     if class.iter().all(|&c| c == Class::Wall) {
         lines.retain(|fit| fit.span() >= 0.25 * w as f32);
     }
+    let lines = suppress(lines, h);
     let mut out: Vec<Ledge> = lines
         .iter()
         .map(|fit| {
@@ -155,7 +156,7 @@ pub fn detect(f: &Features, class: &[Class]) -> Vec<Ledge> {
 /// Follows edge pixels left to right, one row of jitter per column and
 /// gaps of up to 3 columns; keeps straight, long, level-ish chains.
 fn trace(edge: &[bool], step: &[f32], w: usize, h: usize) -> Vec<Fit> {
-    let min_len = (0.02 * w as f32).max(8.0);
+    let min_len = (0.03 * w as f32).max(8.0);
     let mut used = vec![false; w * h];
     let mut out = Vec::new();
     for x in 0..w {
@@ -221,6 +222,27 @@ fn join(mut chains: Vec<Fit>, w: usize) -> Vec<Fit> {
         }
     }
     out
+}
+
+/// Of parallel lines closer than 2% of the height that overlap over half
+/// the shorter one (the slats of a shutter, the steps of a moulding), keeps
+/// the strongest.
+fn suppress(mut lines: Vec<Fit>, h: usize) -> Vec<Fit> {
+    let weight = |f: &Fit| f.strength;
+    lines.sort_by(|a, b| weight(b).total_cmp(&weight(a)).then(a.x0.total_cmp(&b.x0)));
+    let near = 0.02 * h as f32;
+    let mut kept: Vec<Fit> = Vec::new();
+    for l in lines {
+        let clash = kept.iter().any(|k| {
+            let overlap = l.x1.min(k.x1) - l.x0.max(k.x0);
+            let xm = (l.x0.max(k.x0) + l.x1.min(k.x1)) / 2.0;
+            overlap > 0.5 * l.span().min(k.span()) && (l.y_at(xm) - k.y_at(xm)).abs() < near
+        });
+        if !clash {
+            kept.push(l);
+        }
+    }
+    kept
 }
 
 /// Names a ledge by what lies above and below it.
