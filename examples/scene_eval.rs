@@ -3,7 +3,7 @@
 //! ```text
 //! cargo run --release --example scene_eval -- labelmefacade DIR   # DIR has train.txt, images/, labels/
 //! cargo run --release --example scene_eval -- cmp DIR             # DIR has cmp_bNNNN.jpg + .png
-//! cargo run --release --example scene_eval -- synthetic N
+//! cargo run --release --example scene_eval -- synthetic N [--size 4000x3000]
 //! ```
 //! Add `--dump OUT` to write each photo's overlay and classes into OUT,
 //! `--each` to print each photo's numbers.
@@ -23,6 +23,14 @@ fn main() -> anyhow::Result<()> {
         .position(|a| a == "--dump")
         .and_then(|i| args.get(i + 1))
         .map(PathBuf::from);
+    // `--size WxH` for synthetic scenes (default 640x480).
+    let size = args
+        .iter()
+        .position(|a| a == "--size")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|v| v.split_once('x'))
+        .and_then(|(w, h)| Some((w.parse().ok()?, h.parse().ok()?)))
+        .unwrap_or((640u32, 480u32));
     let (kind, arg) = match (args.first(), args.get(1)) {
         (Some(k), Some(a)) => (k.as_str(), a.as_str()),
         _ => bail!("usage: scene_eval labelmefacade|cmp DIR | synthetic N [--dump OUT]"),
@@ -32,7 +40,7 @@ fn main() -> anyhow::Result<()> {
         "cmp" => cmp(Path::new(arg))?,
         "synthetic" => (0..arg.parse::<u64>()?)
             .map(|s| {
-                let sc = synthetic::scene(s, 640, 480);
+                let sc = synthetic::scene(s, size.0, size.1);
                 (format!("synthetic-{s}"), sc.photo, sc.truth)
             })
             .collect(),
@@ -89,7 +97,11 @@ fn labelmefacade(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
     let mut out = Vec::new();
     for line in list.lines().filter(|l| !l.trim().is_empty()) {
         let img = dir.join(line.trim());
-        let stem = img.file_stem().unwrap_or_default().to_string_lossy().to_string();
+        let stem = img
+            .file_stem()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string();
         let lab = grime::io::load_photo(&dir.join("labels").join(format!("{stem}.png")))?;
         let lab = lab.image().to_rgb8();
         let labels = lab
@@ -139,7 +151,11 @@ fn cmp(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
             ledges,
             storey_px: eval::storey_from_windows(&windows, h as f32),
         };
-        let stem = img.file_stem().unwrap_or_default().to_string_lossy().to_string();
+        let stem = img
+            .file_stem()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string();
         out.push((stem, photo, truth));
     }
     Ok(out)

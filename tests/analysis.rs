@@ -52,7 +52,9 @@ fn a_close_up_is_all_wall() {
     let a = analyse(&brick.photo).unwrap();
     assert!(wall_share(&a) >= 0.98, "brick: {}", wall_share(&a));
     assert!(
-        a.ledges.iter().all(|l| l.polyline[1][0] - l.polyline[0][0] >= 0.25 * 512.0),
+        a.ledges
+            .iter()
+            .all(|l| l.polyline[1][0] - l.polyline[0][0] >= 0.25 * 512.0),
         "a texture has no short ledges: {:?}",
         a.ledges
     );
@@ -81,15 +83,27 @@ fn the_demo_facade_wall_and_ledges_are_found() {
         })
     };
     for s in &l.sills {
-        assert!(near(s.3 as f32 + 1.0, s.0, s.2), "sill {s:?}: {:?}", a.ledges);
+        assert!(
+            near(s.3 as f32 + 1.0, s.0, s.2),
+            "sill {s:?}: {:?}",
+            a.ledges
+        );
     }
-    assert!(near(l.cornice.1 as f32 + 1.0, 0, w), "cornice: {:?}", a.ledges);
+    assert!(
+        near(l.cornice.1 as f32 + 1.0, 0, w),
+        "cornice: {:?}",
+        a.ledges
+    );
     // Under the cornice the wall is sheltered; mid-wall far from ledges it is not.
     let yc = l.cornice.1 as f32 + 4.0;
     assert!(a.shelter_at(w as f32 / 2.0, yc) > 0.5);
     let lines = a.source_lines();
     assert_eq!(lines.len(), a.ledges.len());
-    assert!(lines.iter().all(|p| p.len() >= 2 && p.iter().flatten().all(|v| v.is_finite())));
+    assert!(
+        lines
+            .iter()
+            .all(|p| p.len() >= 2 && p.iter().flatten().all(|v| v.is_finite()))
+    );
     let mut preset = grime::preset::Preset::default();
     preset.rain.source_lines = lines;
     preset.validate().unwrap();
@@ -150,7 +164,10 @@ fn no_wall_is_a_clear_error() {
     )
     .unwrap_err();
     let msg = err.to_string();
-    assert!(msg.contains("no wall found in sky.png") && msg.contains("--region full"), "{msg}");
+    assert!(
+        msg.contains("no wall found in sky.png") && msg.contains("--region full"),
+        "{msg}"
+    );
 }
 
 #[test]
@@ -207,11 +224,18 @@ fn scene_subcommand_writes_json_mask_and_overlay() {
         s(&seen),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(v["width"], 320);
     assert!(v["wall_fraction"].as_f64().unwrap() > 0.3);
     assert!(v["scale"]["metres_per_pixel"].as_f64().unwrap() > 0.0);
-    assert!(v["ledges"].as_array().unwrap().iter().any(|l| l["kind"] == "sill"));
+    assert!(
+        v["ledges"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|l| l["kind"] == "sill")
+    );
     let m = image::open(&mask).unwrap();
     assert_eq!((m.width(), m.height()), (320, 240));
     let ov = image::open(&seen).unwrap().to_rgb8();
@@ -229,13 +253,22 @@ fn scene_subcommand_errors_are_one_line() {
         .unwrap();
     let before = std::fs::read(&input).unwrap();
     for (args, needle) in [
-        (vec!["scene", s(&input), "--overlay", s(&input)], "refusing to overwrite"),
+        (
+            vec!["scene", s(&input), "--overlay", s(&input)],
+            "refusing to overwrite",
+        ),
         (vec!["scene", s(&input)], "no wall found"),
-        (vec!["scene", s(&input), "--wall-width", "wide"], "wall width"),
+        (
+            vec!["scene", s(&input), "--wall-width", "wide"],
+            "wall width",
+        ),
     ] {
         let o = grime(&args);
         let err = String::from_utf8_lossy(&o.stderr);
-        assert!(!o.status.success() && err.trim_end().lines().count() == 1, "{err}");
+        assert!(
+            !o.status.success() && err.trim_end().lines().count() == 1,
+            "{err}"
+        );
         assert!(err.contains(needle), "{needle}: {err}");
         assert!(!err.contains("panicked"), "{err}");
     }

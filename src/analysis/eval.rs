@@ -157,9 +157,7 @@ impl Metrics {
                 .filter(|&k| {
                     let x = x0 + k as f32 + 0.5;
                     y_at(&l.polyline, x).is_some_and(|y| {
-                        t.ledges
-                            .iter()
-                            .any(|b| x >= b.x0 && x < b.x1 && near(b, y))
+                        t.ledges.iter().any(|b| x >= b.x0 && x < b.x1 && near(b, y))
                     })
                 })
                 .count() as i64;
@@ -169,7 +167,7 @@ impl Metrics {
             self.scale_n += 1;
             let truth = STOREY_M / storey;
             let r = a.scale.metres_per_pixel / truth;
-            self.scale_ok += (r <= 1.5 && r >= 1.0 / 1.5) as usize;
+            self.scale_ok += (1.0 / 1.5..=1.5).contains(&r) as usize;
         }
     }
 

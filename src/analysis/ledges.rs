@@ -274,7 +274,9 @@ fn kind_of(f: &Features, class: &[Class], fit: &Fit) -> LedgeKind {
     if span >= 0.35 {
         // How far below the wall's top edge (at the ledge's middle)?
         let xm = ((fit.x0 + fit.x1) / 2.0) as usize;
-        let top = (0..h).find(|&y| class[y * w + xm] == Class::Wall).unwrap_or(0);
+        let top = (0..h)
+            .find(|&y| class[y * w + xm] == Class::Wall)
+            .unwrap_or(0);
         let below_top = (fit.y_at(xm as f32) - top as f32) / h as f32;
         return if below_top < 0.04 {
             LedgeKind::Coping
@@ -296,7 +298,8 @@ fn kind_of(f: &Features, class: &[Class], fit: &Fit) -> LedgeKind {
 fn roof_line(class: &[Class], w: usize, h: usize) -> Vec<Ledge> {
     let top: Vec<Option<usize>> = (0..w)
         .map(|x| {
-            (1..h).find(|&y| class[y * w + x] == Class::Wall && class[(y - 1) * w + x] == Class::Sky)
+            (1..h)
+                .find(|&y| class[y * w + x] == Class::Wall && class[(y - 1) * w + x] == Class::Sky)
         })
         .collect();
     let mut out = Vec::new();
@@ -308,7 +311,10 @@ fn roof_line(class: &[Class], w: usize, h: usize) -> Vec<Ledge> {
             continue;
         }
         let start = x;
-        while x < w && top[x].is_some() && (x == start || top[x].unwrap().abs_diff(top[x - 1].unwrap()) <= h / 50 + 1) {
+        while x < w
+            && top[x].is_some()
+            && (x == start || top[x].unwrap().abs_diff(top[x - 1].unwrap()) <= h / 50 + 1)
+        {
             x += 1;
         }
         if x - start >= w / 20 {

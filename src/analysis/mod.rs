@@ -17,8 +17,8 @@
 //! assert!(!a.source_lines().is_empty());
 //! ```
 
-mod features;
 pub mod eval;
+mod features;
 mod ledges;
 mod overlay;
 mod scale;

@@ -141,7 +141,11 @@ fn text(img: &mut RgbImage, x: u32, y: u32, s: &str, px: u32, c: Rgb<u8>) {
         }
     }
     for (k, ch) in s.bytes().enumerate() {
-        let Some(g) = ch.to_ascii_uppercase().checked_sub(b'A').and_then(|i| FONT.get(i as usize)) else {
+        let Some(g) = ch
+            .to_ascii_uppercase()
+            .checked_sub(b'A')
+            .and_then(|i| FONT.get(i as usize))
+        else {
             continue;
         };
         for (row, bits) in g.iter().enumerate() {

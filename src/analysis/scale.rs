@@ -16,7 +16,12 @@ pub const WINDOW_M: f32 = 1.4;
 pub const DEFAULT_WIDTH_M: f32 = 10.0;
 
 /// Estimates the scale; `ledges` in photo pixels.
-pub fn estimate(f: &Features, class: &[Class], ledges: &[Ledge], wall_width_m: Option<f32>) -> Scale {
+pub fn estimate(
+    f: &Features,
+    class: &[Class],
+    ledges: &[Ledge],
+    wall_width_m: Option<f32>,
+) -> Scale {
     let (w, h) = (f.w, f.h);
     let wall_cols = (0..w)
         .filter(|&x| (0..h).any(|y| class[y * w + x] == Class::Wall))
@@ -24,7 +29,10 @@ pub fn estimate(f: &Features, class: &[Class], ledges: &[Ledge], wall_width_m: O
         .max(1) as f32
         * f.sx;
     if let Some(m) = wall_width_m.filter(|m| m.is_finite() && *m > 0.0) {
-        return Scale { metres_per_pixel: m / wall_cols, source: ScaleSource::UserWidth };
+        return Scale {
+            metres_per_pixel: m / wall_cols,
+            source: ScaleSource::UserWidth,
+        };
     }
     // Rows of windows: the tops of the glass blobs.
     let glass: Vec<u8> = class.iter().map(|&c| (c == Class::Glass) as u8).collect();
@@ -45,13 +53,22 @@ pub fn estimate(f: &Features, class: &[Class], ledges: &[Ledge], wall_width_m: O
             .map(|l| (l.polyline[0][1] + l.polyline[l.polyline.len() - 1][1]) / 2.0)
             .collect();
         if let Some(storey) = storey_px(ys, f.h as f32 * f.sy) {
-            return Scale { metres_per_pixel: STOREY_M / storey, source: ScaleSource::StoreyHeight };
+            return Scale {
+                metres_per_pixel: STOREY_M / storey,
+                source: ScaleSource::StoreyHeight,
+            };
         }
     }
     if let Some(px) = window_height_px(class, w, h) {
-        return Scale { metres_per_pixel: WINDOW_M / (px * f.sy), source: ScaleSource::WindowSize };
+        return Scale {
+            metres_per_pixel: WINDOW_M / (px * f.sy),
+            source: ScaleSource::WindowSize,
+        };
     }
-    Scale { metres_per_pixel: DEFAULT_WIDTH_M / wall_cols, source: ScaleSource::Default }
+    Scale {
+        metres_per_pixel: DEFAULT_WIDTH_M / wall_cols,
+        source: ScaleSource::Default,
+    }
 }
 
 /// The typical spacing of rows among `ys` (photo pixels): rows are runs of
@@ -74,7 +91,11 @@ pub fn storey_px(mut ys: Vec<f32>, height: f32) -> Option<f32> {
     if rows.len() < 3 {
         return None;
     }
-    let mut gaps: Vec<f32> = rows.windows(2).map(|r| r[1] - r[0]).filter(|g| *g > 0.05 * height).collect();
+    let mut gaps: Vec<f32> = rows
+        .windows(2)
+        .map(|r| r[1] - r[0])
+        .filter(|g| *g > 0.05 * height)
+        .collect();
     if gaps.len() < 2 {
         return None;
     }

@@ -26,9 +26,16 @@ pub fn map(f: &Features, ledges: &[Ledge]) -> Vec<f32> {
         let d = reach(l.kind) * h as f32;
         for seg in l.polyline.windows(2) {
             let (a, b) = (seg[0], seg[1]);
-            let (x0, x1) = (a[0].min(b[0]).max(0.0) as usize, (a[0].max(b[0]) as usize).min(w));
+            let (x0, x1) = (
+                a[0].min(b[0]).max(0.0) as usize,
+                (a[0].max(b[0]) as usize).min(w),
+            );
             for x in x0..x1 {
-                let t = if b[0] != a[0] { (x as f32 - a[0]) / (b[0] - a[0]) } else { 0.0 };
+                let t = if b[0] != a[0] {
+                    (x as f32 - a[0]) / (b[0] - a[0])
+                } else {
+                    0.0
+                };
                 let yl = a[1] + (b[1] - a[1]) * t;
                 let y0 = yl.max(0.0).ceil() as usize;
                 let y1 = ((yl + 4.0 * d).ceil() as usize).min(h);

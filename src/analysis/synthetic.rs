@@ -40,11 +40,19 @@ pub fn scene(seed: u64, w: u32, h: u32) -> Scene {
         let v = rng.random_range(170.0..225.0);
         [v, v * 0.93, v * 0.82]
     };
-    let sky_rgb = [rng.random_range(110.0..170.0), rng.random_range(160.0..200.0), 235.0];
+    let sky_rgb = [
+        rng.random_range(110.0..170.0),
+        rng.random_range(160.0..200.0),
+        235.0,
+    ];
     let road = rng.random_range(70.0..120.0);
     let tree = rng.random_bool(0.5).then(|| {
         let r = fh * rng.random_range(0.12..0.2);
-        let cx = if rng.random_bool(0.5) { r * 0.8 } else { fw - r * 0.8 };
+        let cx = if rng.random_bool(0.5) {
+            r * 0.8
+        } else {
+            fw - r * 0.8
+        };
         (cx, ground as f32 - r * 0.6, r)
     });
     let mut windows = Vec::new();
@@ -132,7 +140,10 @@ pub fn scene(seed: u64, w: u32, h: u32) -> Scene {
         } else {
             0.0
         };
-        shade(wall_rgb, 0.15 * g + 0.12 * (mottle.at(px, py) - 0.5) + course)
+        shade(
+            wall_rgb,
+            0.15 * g + 0.12 * (mottle.at(px, py) - 0.5) + course,
+        )
     });
     Scene {
         photo: Photo::new(DynamicImage::ImageRgb8(img)),
