@@ -163,6 +163,12 @@ pub enum Error {
         /// Where its mask was expected.
         mask: PathBuf,
     },
+    /// Scene analysis found (almost) no wall in the photo.
+    #[error("no wall found in {name}: use --mask FILE or --region full")]
+    NoWall {
+        /// The photo's name.
+        name: String,
+    },
     /// The caller cancelled the run.
     #[error("cancelled")]
     Cancelled,

@@ -20,6 +20,7 @@
 #![forbid(unsafe_code)]
 
 pub mod age;
+pub mod analysis;
 pub mod batch;
 pub mod demo;
 pub mod effects;

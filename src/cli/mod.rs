@@ -6,6 +6,7 @@ mod common;
 mod gui;
 mod preset;
 mod run;
+mod scene;
 pub mod signals;
 
 use clap::{Parser, Subcommand};
@@ -25,6 +26,8 @@ enum Command {
     Run(run::RunArgs),
     /// Age every photo in a folder, in parallel.
     Batch(batch::BatchArgs),
+    /// Analyse a photo: wall region, ledges, rain shelter and scale.
+    Scene(scene::SceneArgs),
     /// Print a preset as commented TOML (start your own from it).
     Preset(preset::PresetArgs),
     /// Open the interactive editor (region, source lines, perspective, live preview).
@@ -44,6 +47,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
             batch::run(args)
         }
         Command::Preset(args) => preset::run(args),
+        Command::Scene(args) => scene::run(args),
         #[cfg(feature = "gui")]
         Command::Gui(args) => gui::run(args),
     }

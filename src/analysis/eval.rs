@@ -1,0 +1,299 @@
+//! Measuring the analysis against labelled photos (issue 11's targets):
+//! wall IoU, spill of wall onto negatives and onto sky, recall and precision
+//! of sills and cornices, and the scale estimate against storey heights
+//! read from the labels. The `scene_eval` example runs it on the public
+//! datasets; the tests run it on [`super::synthetic`] scenes.
+
+use std::fmt::Write as _;
+
+use super::scale::{STOREY_M, storey_px};
+use super::{Analysis, LedgeKind};
+
+/// Truth label: not scored (windows, doors, "various").
+pub const IGNORE: u8 = 0;
+/// Truth label: wall.
+pub const WALL_LABEL: u8 = 1;
+/// Truth label: sky (a negative, also counted on its own).
+pub const SKY: u8 = 2;
+/// Truth label: any other negative (vegetation, road, pavement, car).
+pub const NEGATIVE: u8 = 3;
+
+/// A labelled ledge: its box in photo pixels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Band {
+    /// Left.
+    pub x0: f32,
+    /// Top.
+    pub y0: f32,
+    /// Right (exclusive).
+    pub x1: f32,
+    /// Bottom (exclusive).
+    pub y1: f32,
+}
+
+/// What a photo really shows.
+#[derive(Debug, Clone, Default)]
+pub struct Truth {
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+    /// Per-pixel labels ([`IGNORE`], [`WALL_LABEL`], [`SKY`], [`NEGATIVE`]), if known.
+    pub labels: Option<Vec<u8>>,
+    /// Sills and cornices.
+    pub ledges: Vec<Band>,
+    /// Storey height in pixels, where it can be read.
+    pub storey_px: Option<f32>,
+}
+
+/// Sums over a set of photos.
+#[derive(Debug, Clone, Default)]
+pub struct Metrics {
+    /// Photos.
+    pub images: usize,
+    /// Photos with pixel labels.
+    pub labelled: usize,
+    /// Sum of per-photo wall IoU.
+    pub iou_sum: f64,
+    /// Negative pixels.
+    pub negatives: u64,
+    /// Negative pixels called wall.
+    pub negatives_wall: u64,
+    /// Sky pixels.
+    pub sky: u64,
+    /// Sky pixels called wall.
+    pub sky_wall: u64,
+    /// Labelled ledges.
+    pub bands: usize,
+    /// Labelled ledges found.
+    pub bands_found: usize,
+    /// Detected sills, cornices and other ledges (not window heads or roof lines).
+    pub detections: usize,
+    /// Detections that lie on a labelled ledge.
+    pub detections_ok: usize,
+    /// Photos with a storey height to compare with.
+    pub scale_n: usize,
+    /// Of those, estimates within a factor 1.5.
+    pub scale_ok: usize,
+    /// Sum of analysis times, ms.
+    pub ms: f64,
+}
+
+/// Share of pixels called wall by the matte.
+fn is_wall(a: &Analysis, i: usize) -> bool {
+    a.matte.as_raw()[i] >= crate::grid::WALL
+}
+
+impl Metrics {
+    /// Adds one photo's analysis (or, with `None`, an analysis that found
+    /// no wall: nothing called wall, no ledges).
+    pub fn add(&mut self, a: Option<&Analysis>, t: &Truth) {
+        self.images += 1;
+        if let Some(a) = a {
+            self.ms += a.timings.total_ms as f64;
+        }
+        if let Some(labels) = &t.labels {
+            self.labelled += 1;
+            let (mut inter, mut union) = (0u64, 0u64);
+            for (i, &l) in labels.iter().enumerate() {
+                if l == IGNORE {
+                    continue;
+                }
+                let p = a.is_some_and(|a| is_wall(a, i));
+                let truth = l == WALL_LABEL;
+                inter += (p && truth) as u64;
+                union += (p || truth) as u64;
+                if !truth {
+                    self.negatives += 1;
+                    self.negatives_wall += p as u64;
+                    if l == SKY {
+                        self.sky += 1;
+                        self.sky_wall += p as u64;
+                    }
+                }
+            }
+            self.iou_sum += if union == 0 {
+                1.0
+            } else {
+                inter as f64 / union as f64
+            };
+        }
+        let tol = 0.015 * t.height as f32;
+        let ledges = a.map(|a| a.ledges.as_slice()).unwrap_or(&[]);
+        let y_at = |poly: &[[f32; 2]], x: f32| -> Option<f32> {
+            poly.windows(2).find_map(|s| {
+                let (p, q) = (s[0], s[1]);
+                (x >= p[0].min(q[0]) && x <= p[0].max(q[0])).then(|| {
+                    if q[0] == p[0] {
+                        p[1]
+                    } else {
+                        p[1] + (q[1] - p[1]) * (x - p[0]) / (q[0] - p[0])
+                    }
+                })
+            })
+        };
+        let near = |b: &Band, y: f32| y >= b.y0 - tol && y <= b.y1 + tol;
+        for b in &t.ledges {
+            self.bands += 1;
+            let (x0, x1) = (b.x0.max(0.0) as i64, b.x1 as i64);
+            let cols = (x1 - x0).max(1);
+            let hit = (x0..x1)
+                .filter(|&x| {
+                    ledges
+                        .iter()
+                        .any(|l| y_at(&l.polyline, x as f32 + 0.5).is_some_and(|y| near(b, y)))
+                })
+                .count() as i64;
+            self.bands_found += (2 * hit >= cols) as usize;
+        }
+        for l in ledges {
+            if matches!(l.kind, LedgeKind::RoofLine | LedgeKind::WindowHead) {
+                continue;
+            }
+            self.detections += 1;
+            let (x0, x1) = (l.polyline[0][0], l.polyline[l.polyline.len() - 1][0]);
+            let cols = ((x1 - x0) as i64).max(1);
+            let hit = (0..cols)
+                .filter(|&k| {
+                    let x = x0 + k as f32 + 0.5;
+                    y_at(&l.polyline, x).is_some_and(|y| {
+                        t.ledges.iter().any(|b| x >= b.x0 && x < b.x1 && near(b, y))
+                    })
+                })
+                .count() as i64;
+            self.detections_ok += (2 * hit >= cols) as usize;
+        }
+        if let (Some(storey), Some(a)) = (t.storey_px, a) {
+            self.scale_n += 1;
+            let truth = STOREY_M / storey;
+            let r = a.scale.metres_per_pixel / truth;
+            self.scale_ok += (1.0 / 1.5..=1.5).contains(&r) as usize;
+        }
+    }
+
+    /// Mean wall IoU over the labelled photos.
+    pub fn mean_iou(&self) -> f64 {
+        self.iou_sum / self.labelled.max(1) as f64
+    }
+
+    /// Share of negative pixels called wall.
+    pub fn spill(&self) -> f64 {
+        self.negatives_wall as f64 / self.negatives.max(1) as f64
+    }
+
+    /// Share of sky pixels called wall.
+    pub fn sky_spill(&self) -> f64 {
+        self.sky_wall as f64 / self.sky.max(1) as f64
+    }
+
+    /// Share of labelled ledges found.
+    pub fn recall(&self) -> f64 {
+        self.bands_found as f64 / self.bands.max(1) as f64
+    }
+
+    /// Share of detections on a labelled ledge.
+    pub fn precision(&self) -> f64 {
+        self.detections_ok as f64 / self.detections.max(1) as f64
+    }
+
+    /// Share of scale estimates within a factor 1.5.
+    pub fn scale_within(&self) -> f64 {
+        self.scale_ok as f64 / self.scale_n.max(1) as f64
+    }
+
+    /// The metrics as a few lines of text.
+    pub fn report(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "images          {}", self.images);
+        if self.labelled > 0 {
+            let _ = writeln!(s, "wall IoU (mean) {:.3}", self.mean_iou());
+            let _ = writeln!(s, "spill           {:.3}", self.spill());
+            let _ = writeln!(s, "sky spill       {:.3}", self.sky_spill());
+        }
+        if self.bands > 0 {
+            let _ = writeln!(
+                s,
+                "ledge recall    {:.3} ({}/{})",
+                self.recall(),
+                self.bands_found,
+                self.bands
+            );
+            let _ = writeln!(
+                s,
+                "ledge precision {:.3} ({}/{})",
+                self.precision(),
+                self.detections_ok,
+                self.detections
+            );
+        }
+        if self.scale_n > 0 {
+            let _ = writeln!(
+                s,
+                "scale within 1.5x {:.3} ({}/{})",
+                self.scale_within(),
+                self.scale_ok,
+                self.scale_n
+            );
+        }
+        let _ = writeln!(
+            s,
+            "mean analysis   {:.1} ms",
+            self.ms / self.images.max(1) as f64
+        );
+        s
+    }
+}
+
+/// Bounding boxes of the 4-connected components of pixels whose label is
+/// in `wanted` (e.g. the sills of a label image), ignoring specks under
+/// `min_px` pixels.
+pub fn components(labels: &[u8], w: usize, h: usize, wanted: &[u8], min_px: usize) -> Vec<Band> {
+    let mut seen = vec![false; w * h];
+    let mut out = Vec::new();
+    let mut stack = Vec::new();
+    for s in 0..w * h {
+        if seen[s] || !wanted.contains(&labels[s]) {
+            continue;
+        }
+        seen[s] = true;
+        stack.push(s);
+        let (mut x0, mut y0, mut x1, mut y1, mut n) = (w, h, 0, 0, 0);
+        while let Some(i) = stack.pop() {
+            let (x, y) = (i % w, i / w);
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+            n += 1;
+            let mut visit = |j: usize| {
+                if !seen[j] && wanted.contains(&labels[j]) {
+                    seen[j] = true;
+                    stack.push(j);
+                }
+            };
+            if x > 0 {
+                visit(i - 1);
+            }
+            if x + 1 < w {
+                visit(i + 1);
+            }
+            if y > 0 {
+                visit(i - w);
+            }
+            if y + 1 < h {
+                visit(i + w);
+            }
+        }
+        if n >= min_px {
+            out.push(Band {
+                x0: x0 as f32,
+                y0: y0 as f32,
+                x1: x1 as f32 + 1.0,
+                y1: y1 as f32 + 1.0,
+            });
+        }
+    }
+    out
+}
+
+/// Storey height (pixels) from window boxes: the spacing of their rows.
+pub fn storey_from_windows(windows: &[Band], height: f32) -> Option<f32> {
+    storey_px(windows.iter().map(|b| b.y0).collect(), height)
+}

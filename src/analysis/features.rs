@@ -1,0 +1,172 @@
+//! The photo at analysis resolution and per-pixel statistics: colour,
+//! luma, local texture.
+
+use std::borrow::Cow;
+
+use image::DynamicImage;
+use rayon::prelude::*;
+
+use crate::photo::Photo;
+
+/// The photo downsampled (area average) so its long side is at most the
+/// analysis side, as planes in 0..1 sRGB, with luma and texture.
+#[derive(Debug, Clone)]
+pub struct Features {
+    /// Width.
+    pub w: usize,
+    /// Height.
+    pub h: usize,
+    /// Photo pixels per analysis pixel, horizontally.
+    pub sx: f32,
+    /// Photo pixels per analysis pixel, vertically.
+    pub sy: f32,
+    /// Red, green, blue planes.
+    pub rgb: [Vec<f32>; 3],
+    /// Luma (Rec. 601).
+    pub luma: Vec<f32>,
+    /// Local texture: mean gradient magnitude of luma around each pixel.
+    pub texture: Vec<f32>,
+}
+
+impl Features {
+    /// Downsamples `photo` to at most `side` pixels on its long side.
+    pub fn new(photo: &Photo, side: u32) -> Features {
+        let (pw, ph) = (photo.width() as usize, photo.height() as usize);
+        let long = pw.max(ph).max(1);
+        let (w, h) = if long <= side as usize {
+            (pw.max(1), ph.max(1))
+        } else {
+            let s = side as f64 / long as f64;
+            (
+                ((pw as f64 * s).round() as usize).max(1),
+                ((ph as f64 * s).round() as usize).max(1),
+            )
+        };
+        let (raw, ch): (Cow<[u8]>, usize) = match photo.image() {
+            DynamicImage::ImageRgb8(i) => (Cow::Borrowed(i.as_raw()), 3),
+            DynamicImage::ImageRgba8(i) => (Cow::Borrowed(i.as_raw()), 4),
+            other => (Cow::Owned(other.to_rgb8().into_raw()), 3),
+        };
+        let mut px = vec![[0f32; 3]; w * h];
+        px.par_chunks_mut(w).enumerate().for_each(|(oy, row)| {
+            let (y0, y1) = span(oy, h, ph);
+            let mut acc = vec![[0u32; 3]; w];
+            for y in y0..y1 {
+                let line = &raw[y * pw * ch..(y + 1) * pw * ch];
+                for (ox, a) in acc.iter_mut().enumerate() {
+                    let (x0, x1) = span(ox, w, pw);
+                    for p in line[x0 * ch..x1 * ch].chunks_exact(ch) {
+                        a[0] += p[0] as u32;
+                        a[1] += p[1] as u32;
+                        a[2] += p[2] as u32;
+                    }
+                }
+            }
+            for (ox, (o, a)) in row.iter_mut().zip(&acc).enumerate() {
+                let (x0, x1) = span(ox, w, pw);
+                let n = ((x1 - x0) * (y1 - y0)) as f32 * 255.0;
+                *o = [a[0] as f32 / n, a[1] as f32 / n, a[2] as f32 / n];
+            }
+        });
+        let plane = |c: usize| px.iter().map(|p| p[c]).collect::<Vec<f32>>();
+        let rgb = [plane(0), plane(1), plane(2)];
+        let luma: Vec<f32> = px
+            .iter()
+            .map(|p| 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2])
+            .collect();
+        let mut grad = vec![0f32; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let at = |x: usize, y: usize| luma[y * w + x];
+                let gx = at((x + 1).min(w - 1), y) - at(x.saturating_sub(1), y);
+                let gy = at(x, (y + 1).min(h - 1)) - at(x, y.saturating_sub(1));
+                grad[y * w + x] = gx.abs() + gy.abs();
+            }
+        }
+        let r = (w.max(h) / 256).max(2);
+        let texture = box_mean(&grad, w, h, r);
+        Features {
+            w,
+            h,
+            sx: pw as f32 / w as f32,
+            sy: ph as f32 / h as f32,
+            rgb,
+            luma,
+            texture,
+        }
+    }
+
+    /// Colour of pixel `i`.
+    pub fn rgb_at(&self, i: usize) -> [f32; 3] {
+        [self.rgb[0][i], self.rgb[1][i], self.rgb[2][i]]
+    }
+}
+
+/// The input pixels `[a, b)` that output pixel `o` of `n` covers in `len`.
+fn span(o: usize, n: usize, len: usize) -> (usize, usize) {
+    let a = o * len / n;
+    let b = ((o + 1) * len / n).max(a + 1).min(len);
+    (a, b)
+}
+
+/// Mean over a (2r+1)^2 box, clipped at the borders (separable running
+/// sums: rows, then a sliding sum of whole rows).
+pub fn box_mean(src: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
+    let mut tmp = vec![0f32; w * h];
+    let mut prefix = vec![0f64; w + 1];
+    for y in 0..h {
+        let row = &src[y * w..(y + 1) * w];
+        for x in 0..w {
+            prefix[x + 1] = prefix[x] + row[x] as f64;
+        }
+        for (x, t) in tmp[y * w..(y + 1) * w].iter_mut().enumerate() {
+            let (a, b) = (x.saturating_sub(r), (x + r + 1).min(w));
+            *t = ((prefix[b] - prefix[a]) / (b - a) as f64) as f32;
+        }
+    }
+    let mut acc = vec![0f64; w];
+    let mut out = vec![0f32; w * h];
+    for row in tmp.chunks_exact(w).take(r.min(h)) {
+        acc.iter_mut().zip(row).for_each(|(a, &v)| *a += v as f64);
+    }
+    for y in 0..h {
+        if y + r < h {
+            let add = &tmp[(y + r) * w..(y + r + 1) * w];
+            acc.iter_mut().zip(add).for_each(|(a, &v)| *a += v as f64);
+        }
+        if y > r {
+            let sub = &tmp[(y - r - 1) * w..(y - r) * w];
+            acc.iter_mut().zip(sub).for_each(|(a, &v)| *a -= v as f64);
+        }
+        let n = ((y + r + 1).min(h) - y.saturating_sub(r)) as f64;
+        for (o, &a) in out[y * w..(y + 1) * w].iter_mut().zip(&acc) {
+            *o = (a / n) as f32;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn box_mean_of_a_constant_is_the_constant_and_spreads_a_spike() {
+        let c = box_mean(&[2.0; 30], 6, 5, 2);
+        assert!(c.iter().all(|v| (v - 2.0).abs() < 1e-6));
+        let mut spike = vec![0.0; 25];
+        spike[12] = 9.0;
+        let m = box_mean(&spike, 5, 5, 1);
+        assert!((m[12] - 1.0).abs() < 1e-6 && m[0] == 0.0);
+    }
+
+    #[test]
+    fn downsampling_averages_areas() {
+        let img = image::RgbImage::from_fn(40, 20, |x, _| {
+            image::Rgb(if x < 20 { [255, 0, 0] } else { [0, 0, 255] })
+        });
+        let f = Features::new(&Photo::new(DynamicImage::ImageRgb8(img)), 10);
+        assert_eq!((f.w, f.h), (10, 5));
+        assert!((f.rgb[0][0] - 1.0).abs() < 1e-6 && f.rgb[2][9] > 0.99);
+    }
+}

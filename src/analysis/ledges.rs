@@ -1,0 +1,334 @@
+//! Ledges: long, near-horizontal luma edges that turn from bright above to
+//! dark below (the lit top and shadowed underside of a projecting ledge),
+//! traced column by column so that perspective slants and small gaps are
+//! followed, fitted with least-squares lines, then named by what is above
+//! and below them (glass above: sill; glass below: window head; long near the
+//! wall top: cornice or coping). The roof line is where the wall meets the
+//! sky.
+
+use super::features::{Features, box_mean};
+use super::wall::Class;
+use super::{Ledge, LedgeKind};
+
+/// Edges weaker than this (luma step over two rows, 0..1) are ignored.
+const MIN_STEP: f32 = 0.06;
+/// Steepest slant followed (dy/dx): about 14 degrees.
+const MAX_SLOPE: f32 = 0.25;
+/// At most this many ledges are returned (the most confident).
+const MAX_LEDGES: usize = 120;
+
+/// A traced chain's least-squares sums.
+#[derive(Debug, Clone, Copy, Default)]
+struct Fit {
+    n: f32,
+    sx: f32,
+    sy: f32,
+    sxx: f32,
+    sxy: f32,
+    syy: f32,
+    strength: f32,
+    x0: f32,
+    x1: f32,
+}
+
+impl Fit {
+    fn add(&mut self, x: f32, y: f32, s: f32) {
+        if self.n == 0.0 {
+            self.x0 = x;
+            self.x1 = x;
+        }
+        self.n += 1.0;
+        self.sx += x;
+        self.sy += y;
+        self.sxx += x * x;
+        self.sxy += x * y;
+        self.syy += y * y;
+        self.strength += s;
+        self.x0 = self.x0.min(x);
+        self.x1 = self.x1.max(x);
+    }
+
+    fn merge(&mut self, o: &Fit) {
+        self.n += o.n;
+        self.sx += o.sx;
+        self.sy += o.sy;
+        self.sxx += o.sxx;
+        self.sxy += o.sxy;
+        self.syy += o.syy;
+        self.strength += o.strength;
+        self.x0 = self.x0.min(o.x0);
+        self.x1 = self.x1.max(o.x1);
+    }
+
+    /// (intercept, slope) of y = a + b x.
+    fn line(&self) -> (f32, f32) {
+        let d = self.n * self.sxx - self.sx * self.sx;
+        if d.abs() < 1e-6 {
+            return (self.sy / self.n, 0.0);
+        }
+        let b = (self.n * self.sxy - self.sx * self.sy) / d;
+        ((self.sy - b * self.sx) / self.n, b)
+    }
+
+    fn y_at(&self, x: f32) -> f32 {
+        let (a, b) = self.line();
+        a + b * x
+    }
+
+    /// Root-mean-square distance of the points from the line.
+    fn rms(&self) -> f32 {
+        let (a, b) = self.line();
+        let sse = self.syy - 2.0 * a * self.sy - 2.0 * b * self.sxy
+            + self.n * a * a
+            + 2.0 * a * b * self.sx
+            + b * b * self.sxx;
+        (sse.max(0.0) / self.n).sqrt()
+    }
+
+    fn span(&self) -> f32 {
+        self.x1 - self.x0 + 1.0
+    }
+}
+
+/// Detects ledges; polylines in analysis pixels.
+pub fn detect(f: &Features, class: &[Class]) -> Vec<Ledge> {
+    let (w, h) = (f.w, f.h);
+    if w < 8 || h < 8 {
+        return Vec::new();
+    }
+    let l = box_mean(&f.luma, w, h, 1);
+    let at = |x: usize, y: usize| l[y * w + x];
+    let wall = |x: usize, y: usize| class[y * w + x] == Class::Wall;
+    // Step down across the row: positive where bright above, dark below.
+    let mut step = vec![0f32; w * h];
+    for y in 1..h - 1 {
+        for x in 0..w {
+            step[y * w + x] = at(x, y - 1) - at(x, y + 1);
+        }
+    }
+    let mut edge = vec![false; w * h];
+    for y in 2..h - 2 {
+        for x in 1..w - 1 {
+            let s = step[y * w + x];
+            let gx = (at(x + 1, y) - at(x - 1, y)).abs();
+            edge[y * w + x] = s > MIN_STEP
+                && gx < s
+                && s >= step[(y - 1) * w + x]
+                && s > step[(y + 1) * w + x]
+                && wall(x, (y + 2).min(h - 1))
+                && wall(x, y - 2);
+        }
+    }
+    let chains = trace(&edge, &step, w, h);
+    let mut lines = join(chains, w);
+    // A close-up (all wall) is texture: only long ledges are sources there.
+    if class.iter().all(|&c| c == Class::Wall) {
+        lines.retain(|fit| fit.span() >= 0.25 * w as f32);
+    }
+    let lines = suppress(lines, h);
+    let mut out: Vec<Ledge> = lines
+        .iter()
+        .map(|fit| {
+            let (x0, x1) = (fit.x0, fit.x1 + 1.0);
+            let kind = kind_of(f, class, fit);
+            let strength = fit.strength / fit.n;
+            let confidence = ((strength / 0.25).min(1.0)
+                * (fit.span() / (0.08 * w as f32)).min(1.0).sqrt())
+            .clamp(0.05, 1.0);
+            Ledge {
+                kind,
+                polyline: vec![[x0, fit.y_at(x0) + 1.5], [x1, fit.y_at(x1) + 1.5]],
+                confidence,
+            }
+        })
+        .collect();
+    out.extend(roof_line(class, w, h));
+    out.sort_by(|a, b| b.confidence.total_cmp(&a.confidence));
+    out.truncate(MAX_LEDGES);
+    out.sort_by(|a, b| {
+        a.polyline[0][1]
+            .total_cmp(&b.polyline[0][1])
+            .then(a.polyline[0][0].total_cmp(&b.polyline[0][0]))
+    });
+    out
+}
+
+/// Follows edge pixels left to right, one row of jitter per column and
+/// gaps of up to 3 columns; keeps straight, long, level-ish chains.
+fn trace(edge: &[bool], step: &[f32], w: usize, h: usize) -> Vec<Fit> {
+    let min_len = (0.03 * w as f32).max(8.0);
+    let mut used = vec![false; w * h];
+    let mut out = Vec::new();
+    for x in 0..w {
+        for y in 0..h {
+            let i = y * w + x;
+            if !edge[i] || used[i] {
+                continue;
+            }
+            let mut fit = Fit::default();
+            let (mut cx, mut cy) = (x, y);
+            used[i] = true;
+            fit.add(cx as f32, cy as f32, step[i]);
+            'follow: loop {
+                for dx in 1..=3 {
+                    let nx = cx + dx;
+                    if nx >= w {
+                        break 'follow;
+                    }
+                    for dy in [0i64, -1, 1] {
+                        let ny = cy as i64 + dy;
+                        if ny < 0 || ny >= h as i64 {
+                            continue;
+                        }
+                        let j = ny as usize * w + nx;
+                        if edge[j] && !used[j] {
+                            used[j] = true;
+                            (cx, cy) = (nx, ny as usize);
+                            fit.add(cx as f32, cy as f32, step[j]);
+                            continue 'follow;
+                        }
+                    }
+                }
+                break;
+            }
+            if fit.span() >= min_len
+                && fit.n >= 0.6 * fit.span()
+                && fit.line().1.abs() <= MAX_SLOPE
+                && fit.rms() <= 1.5
+            {
+                out.push(fit);
+            }
+        }
+    }
+    out
+}
+
+/// Joins chains that continue one another across a small gap (a cornice
+/// broken by a drainpipe), but not separate sills of neighbouring windows.
+fn join(mut chains: Vec<Fit>, w: usize) -> Vec<Fit> {
+    chains.sort_by(|a, b| a.x0.total_cmp(&b.x0));
+    let gap = (0.01 * w as f32).max(3.0);
+    let mut out: Vec<Fit> = Vec::new();
+    for c in chains {
+        let hit = out.iter_mut().find(|o| {
+            c.x0 > o.x1 - 2.0
+                && c.x0 - o.x1 <= gap
+                && (o.y_at(c.x0) - c.y_at(c.x0)).abs() <= 1.5
+                && (o.y_at(o.x1) - c.y_at(o.x1)).abs() <= 1.5
+        });
+        match hit {
+            Some(o) => o.merge(&c),
+            None => out.push(c),
+        }
+    }
+    out
+}
+
+/// Of parallel lines closer than 2% of the height that overlap over half
+/// the shorter one (the slats of a shutter, the steps of a moulding), keeps
+/// the strongest.
+fn suppress(mut lines: Vec<Fit>, h: usize) -> Vec<Fit> {
+    let weight = |f: &Fit| f.strength;
+    lines.sort_by(|a, b| weight(b).total_cmp(&weight(a)).then(a.x0.total_cmp(&b.x0)));
+    let near = 0.02 * h as f32;
+    let mut kept: Vec<Fit> = Vec::new();
+    for l in lines {
+        let clash = kept.iter().any(|k| {
+            let overlap = l.x1.min(k.x1) - l.x0.max(k.x0);
+            let xm = (l.x0.max(k.x0) + l.x1.min(k.x1)) / 2.0;
+            overlap > 0.5 * l.span().min(k.span()) && (l.y_at(xm) - k.y_at(xm)).abs() < near
+        });
+        if !clash {
+            kept.push(l);
+        }
+    }
+    kept
+}
+
+/// Names a ledge by what lies above and below it.
+fn kind_of(f: &Features, class: &[Class], fit: &Fit) -> LedgeKind {
+    let (w, h) = (f.w, f.h);
+    let band = |d0: isize, d1: isize| {
+        let (mut glass, mut n) = (0usize, 0usize);
+        for x in fit.x0 as usize..=(fit.x1 as usize).min(w - 1) {
+            let y = fit.y_at(x as f32).round() as isize;
+            for d in d0..d1 {
+                let yy = y + d;
+                if yy >= 0 && (yy as usize) < h {
+                    n += 1;
+                    glass += (class[yy as usize * w + x] == Class::Glass) as usize;
+                }
+            }
+        }
+        glass as f32 / n.max(1) as f32
+    };
+    let d = (h as isize / 25).max(4);
+    let (above, below) = (band(-2 * d, -1), band(2, 2 * d));
+    if below > 0.35 {
+        return LedgeKind::WindowHead;
+    }
+    if above > 0.25 {
+        return LedgeKind::Sill;
+    }
+    let span = fit.span() / w as f32;
+    if span >= 0.35 {
+        // How far below the wall's top edge (at the ledge's middle)?
+        let xm = ((fit.x0 + fit.x1) / 2.0) as usize;
+        let top = (0..h)
+            .find(|&y| class[y * w + xm] == Class::Wall)
+            .unwrap_or(0);
+        let below_top = (fit.y_at(xm as f32) - top as f32) / h as f32;
+        return if below_top < 0.04 {
+            LedgeKind::Coping
+        } else if below_top < 0.25 {
+            LedgeKind::Cornice
+        } else {
+            LedgeKind::StringCourse
+        };
+    }
+    if span >= 0.15 {
+        LedgeKind::Balcony
+    } else {
+        LedgeKind::Sill
+    }
+}
+
+/// Where wall lies just under sky: runs of columns, sampled every few
+/// pixels, as polylines.
+fn roof_line(class: &[Class], w: usize, h: usize) -> Vec<Ledge> {
+    let top: Vec<Option<usize>> = (0..w)
+        .map(|x| {
+            (1..h)
+                .find(|&y| class[y * w + x] == Class::Wall && class[(y - 1) * w + x] == Class::Sky)
+        })
+        .collect();
+    let mut out = Vec::new();
+    let mut x = 0;
+    let step = (w / 64).max(2);
+    while x < w {
+        if top[x].is_none() {
+            x += 1;
+            continue;
+        }
+        let start = x;
+        while x < w
+            && top[x].is_some()
+            && (x == start || top[x].unwrap().abs_diff(top[x - 1].unwrap()) <= h / 50 + 1)
+        {
+            x += 1;
+        }
+        if x - start >= w / 20 {
+            let mut pts: Vec<[f32; 2]> = (start..x)
+                .step_by(step)
+                .map(|c| [c as f32, top[c].unwrap_or(0) as f32 + 1.0])
+                .collect();
+            pts.push([x as f32, top[x - 1].unwrap_or(0) as f32 + 1.0]);
+            out.push(Ledge {
+                kind: LedgeKind::RoofLine,
+                polyline: pts,
+                confidence: ((x - start) as f32 / w as f32).sqrt().min(1.0),
+            });
+        }
+    }
+    out
+}

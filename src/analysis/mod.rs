@@ -1,0 +1,272 @@
+//! Scene analysis: what grime sees in a photo of a building. The wall (a
+//! soft matte, not sky, vegetation, glass, ground), the ledges water drips
+//! from (sills, cornices, window heads, ...), where projecting ledges shelter
+//! the wall from rain, and metres per pixel.
+//!
+//! Classical vision at about 1 MP (colour and texture statistics, gradient
+//! edge tracing), pure and deterministic at any thread count: no model
+//! weights. The matte is refined with a guided filter on the photo and
+//! upsampled to the photo's size.
+//!
+//! ```
+//! use grime::analysis::{self, Options};
+//! let d = grime::demo::facade(320, 240);
+//! let a = analysis::analyse(&d.photo, &Options::default()).unwrap();
+//! assert_eq!(a.matte.dimensions(), (320, 240));
+//! assert!(a.wall_fraction > 0.5);
+//! assert!(!a.source_lines().is_empty());
+//! ```
+
+pub mod eval;
+mod features;
+mod ledges;
+mod overlay;
+mod scale;
+mod shelter;
+pub mod synthetic;
+mod wall;
+
+use std::time::Instant;
+
+use image::{GrayImage, RgbImage};
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::photo::Photo;
+use crate::preset::SourceLine;
+
+pub use features::Features;
+pub use scale::parse_metres;
+pub use wall::Class;
+
+/// How the analysis runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// Longest side of the analysis image in pixels (the photo is
+    /// downsampled to it; smaller photos are analysed as they are).
+    pub analysis_side: u32,
+    /// The wall's width in metres, if the user knows it (`--wall-width`):
+    /// overrides the scale estimate.
+    pub wall_width_m: Option<f32>,
+    /// Name of the photo, for error messages.
+    pub name: String,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            analysis_side: 1024,
+            wall_width_m: None,
+            name: "the photo".into(),
+        }
+    }
+}
+
+/// What a ledge is; each is a water source.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LedgeKind {
+    /// A window sill: water gathers toward its ends.
+    Sill,
+    /// A cornice: the projecting band under the roof.
+    Cornice,
+    /// A coping or parapet top.
+    Coping,
+    /// The head (lintel) of a window.
+    WindowHead,
+    /// A balcony slab.
+    Balcony,
+    /// A string course: a horizontal band across the facade.
+    StringCourse,
+    /// Where the wall meets the sky.
+    RoofLine,
+}
+
+impl LedgeKind {
+    /// Short lower-case label (also the JSON name).
+    pub fn label(self) -> &'static str {
+        match self {
+            LedgeKind::Sill => "sill",
+            LedgeKind::Cornice => "cornice",
+            LedgeKind::Coping => "coping",
+            LedgeKind::WindowHead => "window head",
+            LedgeKind::Balcony => "balcony",
+            LedgeKind::StringCourse => "string course",
+            LedgeKind::RoofLine => "roof line",
+        }
+    }
+}
+
+/// One ledge.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Ledge {
+    /// What it is.
+    pub kind: LedgeKind,
+    /// Polyline in photo pixels, left to right, just below the ledge's
+    /// drip edge (where water leaves it).
+    pub polyline: Vec<[f32; 2]>,
+    /// 0..1: how sure the detector is.
+    pub confidence: f32,
+}
+
+/// How metres per pixel were estimated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ScaleSource {
+    /// From the spacing of storeys (rows of sills or windows), 3.1 m each.
+    StoreyHeight,
+    /// From the windows' height, 1.4 m each.
+    WindowSize,
+    /// From the wall width the user gave.
+    UserWidth,
+    /// Nothing to go by: the wall is taken to be 10 m wide.
+    Default,
+}
+
+/// Metres per photo pixel and how they were found.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Scale {
+    /// Metres per photo pixel.
+    pub metres_per_pixel: f32,
+    /// How.
+    pub source: ScaleSource,
+}
+
+/// Milliseconds spent per stage.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Timings {
+    /// Downsampling and features.
+    pub features_ms: f32,
+    /// Classes.
+    pub classes_ms: f32,
+    /// Ledges, shelter and scale.
+    pub ledges_ms: f32,
+    /// Matte refinement and upsampling.
+    pub matte_ms: f32,
+    /// Everything.
+    pub total_ms: f32,
+}
+
+/// Everything the analysis found.
+#[derive(Debug, Clone, Serialize)]
+pub struct Analysis {
+    /// Photo width.
+    pub width: u32,
+    /// Photo height.
+    pub height: u32,
+    /// Analysis width.
+    pub analysis_width: u32,
+    /// Analysis height.
+    pub analysis_height: u32,
+    /// Wall matte at the photo's size, 255 = wall, soft edges.
+    #[serde(skip)]
+    pub matte: GrayImage,
+    /// Class per analysis pixel, row-major (`analysis_width` wide).
+    #[serde(skip)]
+    pub classes: Vec<Class>,
+    /// Share of the photo that is wall, 0..1.
+    pub wall_fraction: f32,
+    /// Ledges, top to bottom.
+    pub ledges: Vec<Ledge>,
+    /// Rain shelter at analysis resolution, 0..1 (1 = fully sheltered).
+    #[serde(skip)]
+    pub shelter: Vec<f32>,
+    /// Metres per pixel.
+    pub scale: Scale,
+    /// How long each stage took.
+    pub timings: Timings,
+}
+
+/// Analyses a photo.
+///
+/// # Errors
+/// [`Error::NoWall`] when (almost) nothing in the photo is wall.
+pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
+    let t0 = Instant::now();
+    let ms = |t: Instant| t.elapsed().as_secs_f32() * 1000.0;
+    let f = Features::new(photo, opts.analysis_side.max(16));
+    let t_features = ms(t0);
+    let t1 = Instant::now();
+    let classes = wall::classify(&f);
+    let t_classes = ms(t1);
+    let t2 = Instant::now();
+    let ledges = ledges::detect(&f, &classes);
+    let shelter = shelter::map(&f, &ledges);
+    let t_ledges = ms(t2);
+    let t3 = Instant::now();
+    let small = wall::refine(&f, &classes);
+    let wall_fraction = small.iter().sum::<f32>() / small.len().max(1) as f32;
+    if wall_fraction < 0.01 {
+        return Err(Error::NoWall {
+            name: opts.name.clone(),
+        });
+    }
+    let matte = wall::upsample(&small, &f, photo.width(), photo.height());
+    let t_matte = ms(t3);
+    let to_photo = |p: [f32; 2]| [p[0] * f.sx, p[1] * f.sy];
+    let ledges: Vec<Ledge> = ledges
+        .into_iter()
+        .map(|l| Ledge {
+            polyline: l.polyline.into_iter().map(to_photo).collect(),
+            ..l
+        })
+        .collect();
+    let scale = scale::estimate(&f, &classes, &ledges, opts.wall_width_m);
+    Ok(Analysis {
+        width: photo.width(),
+        height: photo.height(),
+        analysis_width: f.w as u32,
+        analysis_height: f.h as u32,
+        matte,
+        classes,
+        wall_fraction,
+        ledges,
+        shelter,
+        scale,
+        timings: Timings {
+            features_ms: t_features,
+            classes_ms: t_classes,
+            ledges_ms: t_ledges,
+            matte_ms: t_matte,
+            total_ms: ms(t0),
+        },
+    })
+}
+
+impl Analysis {
+    /// The ledges as rain source lines (photo pixels), the format of
+    /// `preset.rain.source_lines`.
+    pub fn source_lines(&self) -> Vec<SourceLine> {
+        self.ledges.iter().map(|l| l.polyline.clone()).collect()
+    }
+
+    /// The scene as pretty JSON (scene.json): sizes, wall fraction, scale,
+    /// ledges, timings.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_else(|_| "{}".into())
+    }
+
+    /// The photo with what grime saw drawn on it: the wall tinted, other
+    /// classes coloured and named, each ledge drawn and labelled.
+    pub fn overlay(&self, photo: &Photo) -> RgbImage {
+        overlay::draw(self, photo)
+    }
+
+    /// Rain shelter at photo pixel (x, y), 0..1.
+    pub fn shelter_at(&self, x: f32, y: f32) -> f32 {
+        let ax = (x * self.analysis_width as f32 / self.width as f32).max(0.0) as usize;
+        let ay = (y * self.analysis_height as f32 / self.height as f32).max(0.0) as usize;
+        let w = self.analysis_width as usize;
+        let ax = ax.min(w - 1);
+        let ay = ay.min(self.analysis_height as usize - 1);
+        self.shelter[ay * w + ax]
+    }
+
+    /// Class at photo pixel (x, y).
+    pub fn class_at(&self, x: u32, y: u32) -> Class {
+        let w = self.analysis_width as usize;
+        let ax = ((x as u64 * w as u64) / self.width as u64) as usize;
+        let ay = ((y as u64 * self.analysis_height as u64) / self.height as u64) as usize;
+        self.classes[ay.min(self.analysis_height as usize - 1) * w + ax.min(w - 1)]
+    }
+}

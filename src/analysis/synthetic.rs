@@ -1,0 +1,158 @@
+//! Synthetic labelled street scenes: sky, a plaster or brick facade with
+//! storeys of windows, sills and a cornice, a road, sometimes a tree. The
+//! truth is known exactly, so the evaluation can run anywhere (CI) with
+//! data free of any licence.
+
+use image::{DynamicImage, Rgb, RgbImage};
+use rand::{Rng as _, SeedableRng};
+
+use super::eval::{Band, NEGATIVE, SKY, Truth, WALL_LABEL};
+use crate::photo::Photo;
+use crate::random::{Noise, Rng, mix};
+
+/// A photo and what is in it.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// The photo.
+    pub photo: Photo,
+    /// Its labels, ledges and storey height.
+    pub truth: Truth,
+}
+
+/// The scene for `seed`, `w` x `h` pixels.
+pub fn scene(seed: u64, w: u32, h: u32) -> Scene {
+    let mut rng = Rng::seed_from_u64(mix(seed ^ 0x5CE7E));
+    let (fw, fh) = (w as f32, h as f32);
+    let roof = (fh * rng.random_range(0.06..0.22)) as u32;
+    let ground = (fh * rng.random_range(0.82..0.92)) as u32;
+    let cornice = (roof + (fh * 0.02) as u32, roof + (fh * 0.045) as u32);
+    let storeys = rng.random_range(3..=4u32);
+    let storey = (ground - cornice.1) as f32 / storeys as f32;
+    let cols = rng.random_range(3..=5u32);
+    let bay = fw / cols as f32;
+    let (win_w, win_h) = (bay * rng.random_range(0.35..0.5), storey * 0.5);
+    let sill_h = (storey * 0.05).max(3.0);
+    let shadow = (storey * 0.04).max(2.0);
+    let brick = rng.random_bool(0.4);
+    let wall_rgb: [f32; 3] = if brick {
+        [rng.random_range(140.0..180.0), 80.0, 60.0]
+    } else {
+        let v = rng.random_range(170.0..225.0);
+        [v, v * 0.93, v * 0.82]
+    };
+    let sky_rgb = [
+        rng.random_range(110.0..170.0),
+        rng.random_range(160.0..200.0),
+        235.0,
+    ];
+    let road = rng.random_range(70.0..120.0);
+    let tree = rng.random_bool(0.5).then(|| {
+        let r = fh * rng.random_range(0.12..0.2);
+        let cx = if rng.random_bool(0.5) {
+            r * 0.8
+        } else {
+            fw - r * 0.8
+        };
+        (cx, ground as f32 - r * 0.6, r)
+    });
+    let mut windows = Vec::new();
+    let mut ledges = Vec::new();
+    for s in 0..storeys {
+        let top = cornice.1 as f32 + s as f32 * storey + storey * 0.2;
+        for c in 0..cols {
+            let x0 = c as f32 * bay + (bay - win_w) / 2.0;
+            windows.push([x0, top, x0 + win_w, top + win_h]);
+            let over = win_w * 0.08;
+            ledges.push(Band {
+                x0: x0 - over,
+                y0: top + win_h,
+                x1: x0 + win_w + over,
+                y1: top + win_h + sill_h,
+            });
+        }
+    }
+    ledges.push(Band {
+        x0: 0.0,
+        y0: cornice.0 as f32,
+        x1: fw,
+        y1: cornice.1 as f32,
+    });
+    let grain = Noise::new(seed.wrapping_add(1), w, h, 2.0, 3);
+    let mottle = Noise::new(seed.wrapping_add(2), w, h, fw / 8.0, 3);
+    let leaves = Noise::new(seed.wrapping_add(3), w, h, 4.0, 3);
+    let mut labels = vec![WALL_LABEL; (w * h) as usize];
+    let frame = (win_w * 0.06).max(2.0);
+    let img = RgbImage::from_fn(w, h, |x, y| {
+        let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
+        let i = (y * w + x) as usize;
+        let shade = |c: [f32; 3], k: f32| Rgb(c.map(|v| (v * (1.0 + k)).clamp(0.0, 255.0) as u8));
+        let g = grain.at(px, py) - 0.5;
+        if let Some((cx, cy, r)) = tree {
+            let d = ((px - cx).powi(2) + (py - cy).powi(2)).sqrt();
+            if d < r * (0.85 + 0.3 * leaves.at(px, py)) || (py > cy && (px - cx).abs() < r * 0.08) {
+                labels[i] = NEGATIVE;
+                let l = leaves.at(px * 3.0, py * 3.0);
+                return shade([60.0, 110.0, 45.0], 0.6 * (l - 0.5));
+            }
+        }
+        if y < roof {
+            labels[i] = SKY;
+            let t = py / roof as f32;
+            return shade(sky_rgb, 0.1 * t + 0.01 * g);
+        }
+        if y >= ground {
+            labels[i] = NEGATIVE;
+            let t = (py - ground as f32) / (fh - ground as f32);
+            return shade([road, road, road * 1.02], 0.15 * t + 0.06 * g);
+        }
+        if y >= cornice.0 && y < cornice.1 {
+            return shade(wall_rgb.map(|v| (v * 1.2).min(250.0)), 0.05 * g);
+        }
+        if y >= cornice.1 && (y as f32) < cornice.1 as f32 + shadow * 1.5 {
+            return shade(wall_rgb, -0.45 + 0.05 * g);
+        }
+        for s in &ledges[..ledges.len() - 1] {
+            if px >= s.x0 && px < s.x1 {
+                if py >= s.y0 && py < s.y1 {
+                    return shade([235.0, 230.0, 220.0], 0.05 * g);
+                }
+                if py >= s.y1 && py < s.y1 + shadow {
+                    return shade(wall_rgb, -0.4 + 0.05 * g);
+                }
+            }
+        }
+        for win in &windows {
+            if px >= win[0] && px < win[2] && py >= win[1] && py < win[3] {
+                let inner = px >= win[0] + frame
+                    && px < win[2] - frame
+                    && py >= win[1] + frame
+                    && py < win[3] - frame;
+                if !inner {
+                    return shade([235.0, 235.0, 230.0], 0.03 * g);
+                }
+                labels[i] = super::eval::IGNORE;
+                let refl = 0.3 * (1.0 - (py - win[1]) / (win[3] - win[1]));
+                return shade([45.0, 55.0, 70.0], refl + 0.05 * g);
+            }
+        }
+        let course = if brick && (y % 9 == 0 || (x + (y / 9) * 11) % 24 == 0) {
+            0.12
+        } else {
+            0.0
+        };
+        shade(
+            wall_rgb,
+            0.15 * g + 0.12 * (mottle.at(px, py) - 0.5) + course,
+        )
+    });
+    Scene {
+        photo: Photo::new(DynamicImage::ImageRgb8(img)),
+        truth: Truth {
+            width: w,
+            height: h,
+            labels: Some(labels),
+            ledges,
+            storey_px: Some(storey),
+        },
+    }
+}

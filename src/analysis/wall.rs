@@ -1,0 +1,374 @@
+//! What is wall: sky, vegetation, ground and window glass are found from
+//! colour and texture statistics and where they sit (sky touches the top,
+//! ground the bottom, glass forms dark compact blobs); the rest is wall. The
+//! hard labels become a soft matte with a guided filter (He, Sun and Tang,
+//! "Guided image filtering", 2010, eqs. (7)-(8)) on the photo's luma.
+
+use std::collections::VecDeque;
+
+use image::GrayImage;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::features::{Features, box_mean};
+
+/// What an analysis pixel shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Class {
+    /// The wall (frames and sills included).
+    Wall,
+    /// Sky.
+    Sky,
+    /// Trees, bushes, grass.
+    Vegetation,
+    /// Window glass.
+    Glass,
+    /// Road, pavement.
+    Ground,
+}
+
+impl Class {
+    /// Label for the overlay.
+    pub fn label(self) -> &'static str {
+        match self {
+            Class::Wall => "wall",
+            Class::Sky => "sky",
+            Class::Vegetation => "vegetation",
+            Class::Glass => "glass",
+            Class::Ground => "ground",
+        }
+    }
+}
+
+/// Sky is smoother than this (mean luma gradient).
+const SKY_TEXTURE: f32 = 0.05;
+
+/// Below this share of non-wall pixels the photo is a close-up: all wall.
+const CLOSE_UP: f32 = 0.02;
+
+/// Labels every analysis pixel.
+pub fn classify(f: &Features) -> Vec<Class> {
+    let (w, h) = (f.w, f.h);
+    let n = w * h;
+    let mut class = vec![Class::Wall; n];
+    let sat = |i: usize| {
+        let [r, g, b] = f.rgb_at(i);
+        let mx = r.max(g).max(b);
+        if mx <= 1e-3 {
+            0.0
+        } else {
+            (mx - r.min(g).min(b)) / mx
+        }
+    };
+    // Sky: bright, smooth, bluish or white-grey, connected to the top edge.
+    let sky_colour: Vec<bool> = (0..n)
+        .map(|i| {
+            let [r, g, b] = f.rgb_at(i);
+            let blue = b - r > 0.03 && b >= g - 0.03 && b > 0.35;
+            blue || (f.luma[i] > 0.62 && sat(i) < 0.16)
+        })
+        .collect();
+    let sky_cand: Vec<bool> = (0..n)
+        .map(|i| sky_colour[i] && f.texture[i] < SKY_TEXTURE)
+        .collect();
+    // Sky is smooth: the fill does not cross a colour step (a roof edge).
+    let smooth_step = |i: usize, j: usize| {
+        let (a, b) = (f.rgb_at(i), f.rgb_at(j));
+        (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>() < 0.08
+    };
+    let core = flood(&sky_cand, w, h, (0..w).collect(), smooth_step);
+    // Then up to the roof edge, where the texture window already sees the roof.
+    let seeds = (0..n).filter(|&i| core[i]).collect();
+    let sky = flood(&sky_colour, w, h, seeds, smooth_step);
+    for i in 0..n {
+        if sky[i] {
+            class[i] = Class::Sky;
+        }
+    }
+    // Vegetation: green excess, smoothed to a majority vote.
+    let veg_cand: Vec<f32> = (0..n)
+        .map(|i| {
+            let [r, g, b] = f.rgb_at(i);
+            let exg = (2.0 * g - r - b) / (r + g + b + 0.05);
+            (exg > 0.07 && g > r && g > b * 0.9) as u8 as f32
+        })
+        .collect();
+    let veg = box_mean(&veg_cand, w, h, (w.max(h) / 200).max(1));
+    for i in 0..n {
+        if veg[i] > 0.5 && class[i] == Class::Wall {
+            class[i] = Class::Vegetation;
+        }
+    }
+    ground(f, &mut class);
+    glass(f, &mut class);
+    let other = class.iter().filter(|&&c| c != Class::Wall).count();
+    if (other as f32) < CLOSE_UP * n as f32 {
+        class.iter_mut().for_each(|c| *c = Class::Wall);
+    }
+    class
+}
+
+/// Pixels of `cand` 4-connected to the seeds (indices into the row-major
+/// grid) through steps `step_ok(from, to)` allows.
+fn flood(
+    cand: &[bool],
+    w: usize,
+    h: usize,
+    seeds: Vec<usize>,
+    step_ok: impl Fn(usize, usize) -> bool,
+) -> Vec<bool> {
+    let mut seen = vec![false; w * h];
+    let mut queue: VecDeque<usize> = VecDeque::new();
+    for s in seeds {
+        if cand[s] && !seen[s] {
+            seen[s] = true;
+            queue.push_back(s);
+        }
+    }
+    while let Some(i) = queue.pop_front() {
+        let (x, y) = (i % w, i / w);
+        let mut visit = |j: usize| {
+            if cand[j] && !seen[j] && step_ok(i, j) {
+                seen[j] = true;
+                queue.push_back(j);
+            }
+        };
+        if x > 0 {
+            visit(i - 1);
+        }
+        if x + 1 < w {
+            visit(i + 1);
+        }
+        if y > 0 {
+            visit(i - w);
+        }
+        if y + 1 < h {
+            visit(i + w);
+        }
+    }
+    seen
+}
+
+/// Ground: unsaturated, like the bottom rows' colour (smoothed), not too
+/// textured, connected to the bottom edge, below 45% of the height. Refused
+/// when it only stops at that limit and looks like what lies above it (a
+/// close-up's texture reaches the bottom too).
+fn ground(f: &Features, class: &mut [Class]) {
+    let (w, h) = (f.w, f.h);
+    let band = (h / 20).max(1);
+    let r = (w.max(h) / 150).max(1);
+    let smooth: Vec<Vec<f32>> = f.rgb.iter().map(|p| box_mean(p, w, h, r)).collect();
+    let at = |i: usize| [smooth[0][i], smooth[1][i], smooth[2][i]];
+    let mut bottom: Vec<[f32; 3]> = ((h - band) * w..h * w)
+        .filter(|&i| class[i] == Class::Wall)
+        .map(at)
+        .collect();
+    if bottom.len() < w / 4 {
+        return;
+    }
+    let model = median3(&mut bottom);
+    let top = h * 45 / 100;
+    let cand: Vec<bool> = (0..w * h)
+        .map(|i| {
+            let c = at(i);
+            let d = (0..3).map(|k| (c[k] - model[k]).abs()).sum::<f32>();
+            let (mx, mn) = (c[0].max(c[1]).max(c[2]), c[0].min(c[1]).min(c[2]));
+            let sat = (mx - mn) / mx.max(1e-3);
+            i / w >= top
+                && class[i] == Class::Wall
+                && f.texture[i] < GROUND_TEXTURE
+                && sat < 0.3
+                && d < 0.25
+        })
+        .collect();
+    // Each stretch of the bottom row is a seed; only wide ones (a road, not
+    // the foot of a brick) make ground.
+    let mut g = vec![false; w * h];
+    let mut x = 0;
+    while x < w {
+        let start = x;
+        while x < w && cand[(h - 1) * w + x] {
+            x += 1;
+        }
+        if x - start >= w / 8 {
+            let seeds = ((h - 1) * w + start..(h - 1) * w + x).collect();
+            let part = flood(&cand, w, h, seeds, |_, _| true);
+            g.iter_mut().zip(&part).for_each(|(a, &b)| *a |= b);
+        }
+        x += 1;
+    }
+    // Where does the ground end in each column, and what lies above it?
+    let (mut at_cap, mut cols) = (0, 0);
+    let mut above = Vec::new();
+    let mut inside = Vec::new();
+    for x in 0..w {
+        if let Some(y) = (top..h).find(|&y| g[y * w + x]) {
+            cols += 1;
+            at_cap += (y == top) as usize;
+            let ya = y.saturating_sub(h / 12);
+            above.push(at(ya * w + x));
+            inside.push(at((y + h / 24).min(h - 1) * w + x));
+        }
+    }
+    if cols == 0 {
+        return;
+    }
+    let (a, b) = (median3(&mut above), median3(&mut inside));
+    let d = (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>();
+    if at_cap * 2 > cols && d < 0.1 {
+        return;
+    }
+    for (c, &is) in class.iter_mut().zip(&g) {
+        if is {
+            *c = Class::Ground;
+        }
+    }
+}
+
+/// Ground this textured (mean luma gradient) or more is not ground.
+const GROUND_TEXTURE: f32 = 0.15;
+
+fn median3(v: &mut [[f32; 3]]) -> [f32; 3] {
+    let mut out = [0.0; 3];
+    for (k, o) in out.iter_mut().enumerate() {
+        let mut c: Vec<f32> = v.iter().map(|p| p[k]).collect();
+        c.sort_by(f32::total_cmp);
+        *o = c[c.len() / 2];
+    }
+    out
+}
+
+/// Window glass: compact, smooth blobs much darker than the wall, of a
+/// window's size, not touching the photo's edge.
+fn glass(f: &Features, class: &mut [Class]) {
+    let (w, h) = (f.w, f.h);
+    let mut wall_l: Vec<f32> = (0..w * h)
+        .filter(|&i| class[i] == Class::Wall)
+        .map(|i| f.luma[i])
+        .collect();
+    if wall_l.len() < w * h / 10 {
+        return;
+    }
+    wall_l.sort_by(f32::total_cmp);
+    let median = wall_l[wall_l.len() / 2];
+    let cand: Vec<bool> = (0..w * h)
+        .map(|i| class[i] == Class::Wall && f.luma[i] < 0.62 * median && f.texture[i] < 0.08)
+        .collect();
+    let mut label = vec![0u32; w * h];
+    let mut next = 0u32;
+    let n = (w * h) as f32;
+    for start in 0..w * h {
+        if !cand[start] || label[start] != 0 {
+            continue;
+        }
+        next += 1;
+        let mut members = vec![start];
+        label[start] = next;
+        let mut k = 0;
+        let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
+        while k < members.len() {
+            let i = members[k];
+            k += 1;
+            let (x, y) = (i % w, i / w);
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+            let mut visit = |j: usize| {
+                if cand[j] && label[j] == 0 {
+                    label[j] = next;
+                    members.push(j);
+                }
+            };
+            if x > 0 {
+                visit(i - 1);
+            }
+            if x + 1 < w {
+                visit(i + 1);
+            }
+            if y > 0 {
+                visit(i - w);
+            }
+            if y + 1 < h {
+                visit(i + w);
+            }
+        }
+        let (bw, bh) = ((x1 - x0 + 1) as f32, (y1 - y0 + 1) as f32);
+        let area = members.len() as f32;
+        let fits = area > 0.0004 * n
+            && area < 0.06 * n
+            && area > 0.45 * bw * bh
+            && (0.2..=8.0).contains(&(bh / bw))
+            && x0 > 0
+            && y0 > 0
+            && x1 + 1 < w
+            && y1 + 1 < h;
+        if fits {
+            for &i in &members {
+                class[i] = Class::Glass;
+            }
+        }
+    }
+}
+
+/// The wall as a soft matte (0..1) at analysis resolution: the hard labels
+/// through a guided filter on luma, He et al. eqs. (7)-(8).
+pub fn refine(f: &Features, class: &[Class]) -> Vec<f32> {
+    let (w, h) = (f.w, f.h);
+    let p: Vec<f32> = class
+        .iter()
+        .map(|&c| (c == Class::Wall) as u8 as f32)
+        .collect();
+    if p.iter().all(|&v| v == 1.0) || p.iter().all(|&v| v == 0.0) {
+        return p;
+    }
+    let r = (w.max(h) / 300).max(2);
+    let eps = 0.004;
+    let i = &f.luma;
+    let mean_i = box_mean(i, w, h, r);
+    let mean_p = box_mean(&p, w, h, r);
+    let ip: Vec<f32> = i.iter().zip(&p).map(|(a, b)| a * b).collect();
+    let ii: Vec<f32> = i.iter().map(|a| a * a).collect();
+    let corr_ip = box_mean(&ip, w, h, r);
+    let corr_ii = box_mean(&ii, w, h, r);
+    let n = w * h;
+    let mut a = vec![0f32; n];
+    let mut b = vec![0f32; n];
+    for k in 0..n {
+        let var = corr_ii[k] - mean_i[k] * mean_i[k];
+        let cov = corr_ip[k] - mean_i[k] * mean_p[k];
+        a[k] = cov / (var + eps); // eq. (7)
+        b[k] = mean_p[k] - a[k] * mean_i[k]; // eq. (8)
+    }
+    let ma = box_mean(&a, w, h, r);
+    let mb = box_mean(&b, w, h, r);
+    (0..n)
+        .map(|k| (ma[k] * i[k] + mb[k]).clamp(0.0, 1.0))
+        .collect()
+}
+
+/// The matte at the photo's size (bilinear).
+pub fn upsample(small: &[f32], f: &Features, pw: u32, ph: u32) -> GrayImage {
+    let (w, h) = (f.w, f.h);
+    let mut out = vec![0u8; pw as usize * ph as usize];
+    let xs: Vec<(usize, usize, f32)> = (0..pw as usize)
+        .map(|x| tap((x as f32 + 0.5) / f.sx - 0.5, w))
+        .collect();
+    out.par_chunks_mut(pw as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            let (y0, y1, ty) = tap((y as f32 + 0.5) / f.sy - 0.5, h);
+            let (r0, r1) = (&small[y0 * w..(y0 + 1) * w], &small[y1 * w..(y1 + 1) * w]);
+            for (o, &(x0, x1, tx)) in row.iter_mut().zip(&xs) {
+                let top = r0[x0] + (r0[x1] - r0[x0]) * tx;
+                let bot = r1[x0] + (r1[x1] - r1[x0]) * tx;
+                *o = ((top + (bot - top) * ty) * 255.0).round() as u8;
+            }
+        });
+    GrayImage::from_raw(pw, ph, out).expect("buffer has the photo's size")
+}
+
+/// The two neighbours of continuous coordinate `c` in `0..n` and the weight of the second.
+fn tap(c: f32, n: usize) -> (usize, usize, f32) {
+    let c = c.clamp(0.0, (n - 1) as f32);
+    let a = c.floor() as usize;
+    (a, (a + 1).min(n - 1), c - a as f32)
+}

@@ -1,0 +1,279 @@
+//! Scene analysis (issue 11): synthetic scenes with known sky, ground,
+//! windows and ledges meet the targets; the close-up rule; determinism;
+//! errors; the `grime scene` binary end to end.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use grime::analysis::eval::Metrics;
+use grime::analysis::{self, LedgeKind, Options, synthetic};
+use grime::photo::Photo;
+use image::{DynamicImage, Rgb, RgbImage};
+
+fn analyse(photo: &Photo) -> grime::Result<analysis::Analysis> {
+    analysis::analyse(photo, &Options::default())
+}
+
+fn wall_share(a: &analysis::Analysis) -> f32 {
+    a.matte.iter().filter(|&&v| v >= 128).count() as f32 / a.matte.len() as f32
+}
+
+#[test]
+fn synthetic_scenes_meet_the_targets() {
+    let mut m = Metrics::default();
+    for seed in 0..6 {
+        let s = synthetic::scene(seed, 480, 360);
+        let a = analyse(&s.photo).unwrap();
+        m.add(Some(&a), &s.truth);
+    }
+    let r = m.report();
+    assert!(m.mean_iou() >= 0.8, "{r}");
+    assert!(m.spill() <= 0.05, "{r}");
+    assert!(m.sky_spill() <= 0.02, "{r}");
+    assert!(m.recall() >= 0.8, "{r}");
+    assert!(m.precision() >= 0.7, "{r}");
+    assert_eq!(m.scale_ok, m.scale_n, "{r}");
+}
+
+#[test]
+fn metrics_tell_a_bad_analysis_from_a_good_one() {
+    // Nothing called wall: IoU 0, no spill, nothing found.
+    let s = synthetic::scene(1, 240, 180);
+    let mut m = Metrics::default();
+    m.add(None, &s.truth);
+    assert_eq!(m.mean_iou(), 0.0);
+    assert_eq!(m.spill(), 0.0);
+    assert_eq!(m.recall(), 0.0);
+}
+
+#[test]
+fn a_close_up_is_all_wall() {
+    let brick = grime::demo::load("brick").unwrap();
+    let a = analyse(&brick.photo).unwrap();
+    assert!(wall_share(&a) >= 0.98, "brick: {}", wall_share(&a));
+    assert!(
+        a.ledges
+            .iter()
+            .all(|l| l.polyline[1][0] - l.polyline[0][0] >= 0.25 * 512.0),
+        "a texture has no short ledges: {:?}",
+        a.ledges
+    );
+}
+
+#[test]
+fn the_demo_facade_wall_and_ledges_are_found() {
+    let (w, h) = (480, 360);
+    let d = grime::demo::facade(w, h);
+    let l = grime::demo::layout(w, h);
+    let a = analyse(&d.photo).unwrap();
+    let region = d.region.unwrap();
+    let (mut inter, mut union) = (0, 0);
+    for (p, t) in a.matte.iter().zip(region.iter()) {
+        inter += (*p >= 128 && *t >= 128) as u32;
+        union += (*p >= 128 || *t >= 128) as u32;
+    }
+    // The demo region leaves whole windows out; the analysis keeps their
+    // frames as wall (issue 11), so the IoU cannot reach 1.
+    assert!(inter as f32 / union as f32 >= 0.8, "IoU {inter}/{union}");
+    let near = |y: f32, x0: u32, x1: u32| {
+        a.ledges.iter().any(|e| {
+            (e.polyline[0][1] - y).abs() <= 4.0
+                && e.polyline[0][0] < x1 as f32
+                && e.polyline[1][0] > x0 as f32
+        })
+    };
+    for s in &l.sills {
+        assert!(
+            near(s.3 as f32 + 1.0, s.0, s.2),
+            "sill {s:?}: {:?}",
+            a.ledges
+        );
+    }
+    assert!(
+        near(l.cornice.1 as f32 + 1.0, 0, w),
+        "cornice: {:?}",
+        a.ledges
+    );
+    // Under the cornice the wall is sheltered; mid-wall far from ledges it is not.
+    let yc = l.cornice.1 as f32 + 4.0;
+    assert!(a.shelter_at(w as f32 / 2.0, yc) > 0.5);
+    let lines = a.source_lines();
+    assert_eq!(lines.len(), a.ledges.len());
+    assert!(
+        lines
+            .iter()
+            .all(|p| p.len() >= 2 && p.iter().flatten().all(|v| v.is_finite()))
+    );
+    let mut preset = grime::preset::Preset::default();
+    preset.rain.source_lines = lines;
+    preset.validate().unwrap();
+}
+
+#[test]
+fn slanted_ledges_are_followed() {
+    // A lit band over a shadow, sloping 6 px over 200 px, on plain wall.
+    let img = RgbImage::from_fn(240, 160, |x, y| {
+        let edge = 80.0 + 0.03 * x as f32;
+        let v = if (y as f32) < edge && (y as f32) > edge - 6.0 {
+            235
+        } else if (y as f32) >= edge && (y as f32) < edge + 4.0 {
+            90
+        } else {
+            180
+        };
+        Rgb([v, (v as f32 * 0.95) as u8, (v as f32 * 0.85) as u8])
+    });
+    let a = analyse(&Photo::new(DynamicImage::ImageRgb8(img))).unwrap();
+    let e = a
+        .ledges
+        .iter()
+        .find(|e| e.polyline[1][0] - e.polyline[0][0] > 150.0)
+        .expect("the ledge");
+    let slope = (e.polyline[1][1] - e.polyline[0][1]) / (e.polyline[1][0] - e.polyline[0][0]);
+    assert!((slope - 0.03).abs() < 0.01, "{e:?}");
+    assert_ne!(e.kind, LedgeKind::RoofLine);
+}
+
+#[test]
+fn determinism_at_one_and_two_threads() {
+    let s = synthetic::scene(4, 640, 480);
+    let run = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+            .install(|| analyse(&s.photo).unwrap())
+    };
+    let (a, b) = (run(1), run(2));
+    assert_eq!(a.matte, b.matte);
+    assert_eq!(a.classes, b.classes);
+    assert_eq!(a.ledges, b.ledges);
+    assert_eq!(a.shelter, b.shelter);
+    assert_eq!(a.scale, b.scale);
+}
+
+#[test]
+fn no_wall_is_a_clear_error() {
+    let sky = RgbImage::from_pixel(200, 100, Rgb([120, 170, 235]));
+    let err = analysis::analyse(
+        &Photo::new(DynamicImage::ImageRgb8(sky)),
+        &Options {
+            name: "sky.png".into(),
+            ..Options::default()
+        },
+    )
+    .unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        msg.contains("no wall found in sky.png") && msg.contains("--region full"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn user_wall_width_sets_the_scale() {
+    let d = grime::demo::facade(400, 300);
+    let a = analysis::analyse(
+        &d.photo,
+        &Options {
+            wall_width_m: Some(8.0),
+            ..Options::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(a.scale.source, analysis::ScaleSource::UserWidth);
+    assert!((a.scale.metres_per_pixel - 8.0 / 400.0).abs() < 1e-4);
+    assert_eq!(analysis::parse_metres("14m").unwrap(), 14.0);
+    assert_eq!(analysis::parse_metres("1400cm").unwrap(), 14.0);
+    assert!(analysis::parse_metres("-3m").is_err());
+}
+
+fn grime(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_grime"))
+        .args(args)
+        .output()
+        .expect("run grime")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn scene_subcommand_writes_json_mask_and_overlay() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("street.png");
+    synthetic::scene(2, 320, 240)
+        .photo
+        .image()
+        .save(&input)
+        .unwrap();
+    let (json, mask, seen) = (
+        dir.path().join("scene.json"),
+        dir.path().join("wall.png"),
+        dir.path().join("seen.png"),
+    );
+    let o = grime(&[
+        "scene",
+        s(&input),
+        "-o",
+        s(&json),
+        "--mask-out",
+        s(&mask),
+        "--overlay",
+        s(&seen),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["width"], 320);
+    assert!(v["wall_fraction"].as_f64().unwrap() > 0.3);
+    assert!(v["scale"]["metres_per_pixel"].as_f64().unwrap() > 0.0);
+    assert!(
+        v["ledges"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|l| l["kind"] == "sill")
+    );
+    let m = image::open(&mask).unwrap();
+    assert_eq!((m.width(), m.height()), (320, 240));
+    let ov = image::open(&seen).unwrap().to_rgb8();
+    let orig = image::open(&input).unwrap().to_rgb8();
+    assert_eq!(ov.dimensions(), orig.dimensions());
+    assert_ne!(ov, orig, "the overlay draws on the photo");
+}
+
+#[test]
+fn scene_subcommand_errors_are_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("sky.png");
+    RgbImage::from_pixel(64, 48, Rgb([120, 170, 235]))
+        .save(&input)
+        .unwrap();
+    let before = std::fs::read(&input).unwrap();
+    for (args, needle) in [
+        (
+            vec!["scene", s(&input), "--overlay", s(&input)],
+            "refusing to overwrite",
+        ),
+        (vec!["scene", s(&input)], "no wall found"),
+        (
+            vec!["scene", s(&input), "--wall-width", "wide"],
+            "wall width",
+        ),
+    ] {
+        let o = grime(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            !o.status.success() && err.trim_end().lines().count() == 1,
+            "{err}"
+        );
+        assert!(err.contains(needle), "{needle}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+    let help = grime(&["scene", "--help"]);
+    let text = String::from_utf8_lossy(&help.stdout);
+    assert!(text.contains("--mask-out") && text.contains("--overlay") && text.contains("ledges"));
+}
