@@ -40,6 +40,28 @@ pub enum Source {
     },
 }
 
+/// Where the wall is when no mask is given.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RegionMode {
+    /// Found by the scene analysis ([`crate::analysis`]): not the sky,
+    /// vegetation, glass or ground.
+    #[default]
+    Auto,
+    /// Every pixel is wall.
+    Full,
+}
+
+/// Where rain water starts when the preset names no source lines.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SourcesMode {
+    /// The ledges the scene analysis finds (sills, cornices, copings, the
+    /// roof line); the region's top edge only when it finds none.
+    #[default]
+    Auto,
+    /// Only the region's top edge.
+    Top,
+}
+
 /// Everything one ageing reads.
 #[derive(Debug, Clone)]
 pub struct Inputs {
@@ -51,6 +73,12 @@ pub struct Inputs {
     pub normal_map: Option<PathBuf>,
     /// The wall plane, photo pixels.
     pub quad: Option<Quad>,
+    /// How a photo file without a mask finds its wall.
+    pub region: RegionMode,
+    /// How a photo file finds where water starts.
+    pub sources: SourcesMode,
+    /// The wall's width in metres, if known (overrides the scale estimate).
+    pub wall_width_m: Option<f32>,
 }
 
 impl Inputs {
@@ -61,6 +89,9 @@ impl Inputs {
             mask: None,
             normal_map: None,
             quad: None,
+            region: RegionMode::Auto,
+            sources: SourcesMode::Auto,
+            wall_width_m: None,
         }
     }
 
@@ -201,6 +232,10 @@ pub fn load(inputs: &Inputs, preset: &Preset) -> Result<(Scene, Preset)> {
         Some(m) => Some(Arc::new(io::load_mask(m, photo.width(), photo.height())?)),
         None => region,
     };
+    let region = match &inputs.source {
+        Source::File(path) => see(inputs, path, &photo, region, &mut preset)?,
+        _ => region,
+    };
     let mut scene = Scene::shared(photo, region)?;
     if let Source::Loaded { scene: given, .. } = &inputs.source {
         scene.normals = given.normals.clone();
@@ -214,6 +249,48 @@ pub fn load(inputs: &Inputs, preset: &Preset) -> Result<(Scene, Preset)> {
         scene = scene.with_quad(inputs.quad)?;
     }
     Ok((scene, preset))
+}
+
+/// The region and ledges of a photo file from the scene analysis, as
+/// `inputs` asks: the wall when there is no mask (`RegionMode::Auto`), the
+/// ledges as source lines when the preset has none (`SourcesMode::Auto`),
+/// or only the top edge (`SourcesMode::Top`).
+///
+/// # Errors
+/// [`Error::NoWall`] when the analysis finds no wall.
+fn see(
+    inputs: &Inputs,
+    path: &Path,
+    photo: &Arc<crate::photo::Photo>,
+    region: Option<Arc<image::GrayImage>>,
+    preset: &mut Preset,
+) -> Result<Option<Arc<image::GrayImage>>> {
+    if inputs.sources == SourcesMode::Top {
+        preset.rain.source_lines.clear();
+        preset.rain.top_edge = true;
+    }
+    let wants_region = region.is_none() && inputs.region == RegionMode::Auto;
+    let wants_ledges = inputs.sources == SourcesMode::Auto && preset.rain.source_lines.is_empty();
+    if !wants_region && !wants_ledges {
+        return Ok(region);
+    }
+    let opts = crate::analysis::Options {
+        wall_width_m: inputs.wall_width_m,
+        name: path.display().to_string(),
+        ..crate::analysis::Options::default()
+    };
+    let seen = crate::analysis::analyse(photo, &opts)?;
+    if wants_region && seen.matte.as_raw().iter().all(|&v| v == 0) {
+        return Err(Error::NoWall { name: opts.name });
+    }
+    if wants_ledges && !seen.ledges.is_empty() {
+        preset.rain.source_lines = seen.source_lines();
+        preset.rain.top_edge = false;
+    }
+    Ok(match wants_region {
+        true => Some(Arc::new(seen.matte)),
+        false => region,
+    })
 }
 
 /// Ages `inputs` with `preset` and writes `outputs`.
@@ -309,8 +386,7 @@ mod tests {
         let inputs = Inputs {
             source: Source::Demo("facade".into()),
             mask: Some(mask.clone()),
-            normal_map: None,
-            quad: None,
+            ..Inputs::file("unused")
         };
         assert!(guard(&inputs, &outputs(&[&mask])).is_err());
     }

@@ -277,3 +277,98 @@ fn scene_subcommand_errors_are_one_line() {
     let text = String::from_utf8_lossy(&help.stdout);
     assert!(text.contains("--mask-out") && text.contains("--overlay") && text.contains("ledges"));
 }
+
+/// A synthetic street photo saved as PNG, and which of its pixels are sky.
+fn street(dir: &Path) -> (std::path::PathBuf, Vec<bool>) {
+    let scene = synthetic::scene(3, 320, 240);
+    let path = dir.join("street.png");
+    scene.photo.image().to_rgb8().save(&path).unwrap();
+    let labels = scene.truth.labels.expect("synthetic scenes are labelled");
+    (
+        path,
+        labels
+            .iter()
+            .map(|&l| l == grime::analysis::eval::SKY)
+            .collect(),
+    )
+}
+
+fn sky_changed(input: &Path, output: &Path, sky: &[bool]) -> usize {
+    let a = image::open(input).unwrap().to_rgb8();
+    let b = image::open(output).unwrap().to_rgb8();
+    a.pixels()
+        .zip(b.pixels())
+        .zip(sky)
+        .filter(|((p, q), s)| **s && p != q)
+        .count()
+}
+
+#[test]
+fn run_leaves_the_sky_alone_unless_told_every_pixel_is_wall() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, sky) = street(dir.path());
+    assert!(
+        sky.iter().filter(|s| **s).count() > 1000,
+        "the scene has sky"
+    );
+    let auto = dir.path().join("auto.png");
+    let full = dir.path().join("full.png");
+    let fast = ["--layers", "3", "--set", "sim.max_side=160", "-q"];
+    for (out, extra) in [(&auto, vec![]), (&full, vec!["--region", "full"])] {
+        let mut args = vec!["run", s(&input), "-o", s(out)];
+        args.extend_from_slice(&fast);
+        args.extend(extra);
+        let o = grime(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let (in_auto, in_full) = (
+        sky_changed(&input, &auto, &sky),
+        sky_changed(&input, &full, &sky),
+    );
+    assert!(
+        in_full > 500,
+        "every pixel is wall: the sky ages too ({in_full})"
+    );
+    assert!(
+        (in_auto as f32) < 0.05 * sky.iter().filter(|s| **s).count() as f32,
+        "found automatically, the sky stays as it was ({in_auto} sky pixels changed)"
+    );
+}
+
+#[test]
+fn run_and_batch_say_when_there_is_no_wall() {
+    let dir = tempfile::tempdir().unwrap();
+    let photos = dir.path().join("in");
+    std::fs::create_dir(&photos).unwrap();
+    let sky = photos.join("sky.png");
+    RgbImage::from_pixel(200, 100, Rgb([120, 170, 235]))
+        .save(&sky)
+        .unwrap();
+    let (street_png, _) = street(&photos);
+    let out = dir.path().join("out.png");
+    let o = grime(&["run", s(&sky), "-o", s(&out), "-q"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("no wall found") && err.contains("--region full"),
+        "{err}"
+    );
+    // In a batch the sky is reported and the street is aged.
+    let aged = dir.path().join("aged");
+    let o = grime(&[
+        "batch",
+        s(&photos),
+        "-o",
+        s(&aged),
+        "-q",
+        "--layers",
+        "2",
+        "--set",
+        "sim.max_side=128",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(err.contains("1 succeeded, 1 failed"), "{err}");
+    assert!(aged.join(street_png.file_name().unwrap()).is_file());
+}

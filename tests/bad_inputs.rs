@@ -207,7 +207,9 @@ fn a_smaller_run_in_a_layers_dir_removes_the_stale_layers_only() {
         .as_array()
         .unwrap()
         .iter()
-        .map(|l| l["file"].as_str().unwrap().to_string())
+        .chain([&manifest["region"]])
+        .filter_map(|f| f.as_str().or(f["file"].as_str()))
+        .map(str::to_string)
         .chain(["09-sketch.png", "manifest.json", "notes.txt"].map(String::from))
         .collect();
     expected.sort();

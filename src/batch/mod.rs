@@ -30,7 +30,7 @@ mod plan;
 mod runner;
 
 pub use plan::{
-    Job, ListingError, Options, OutputFormat, Plan, Shard, derive_seed, discover, is_temp_file,
-    plan, rel_string,
+    Job, ListingError, Options, OutputFormat, Plan, Seeing, Shard, derive_seed, discover,
+    is_temp_file, plan, rel_string,
 };
 pub use runner::{FileReport, Status, Summary, run, sidecar_quad};

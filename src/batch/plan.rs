@@ -8,6 +8,7 @@ use std::str::FromStr;
 
 use serde::Serialize;
 
+use crate::age::{RegionMode, SourcesMode};
 use crate::error::{Error, Result};
 use crate::io::Format;
 use crate::random::mix;
@@ -268,6 +269,20 @@ pub struct Options {
     /// Also write every image's layers (PNGs + manifest.json) to
     /// `<output>/<relative path without extension>.layers/`.
     pub layers_dirs: bool,
+    /// How each image without a mask finds its wall, its ledges and its
+    /// scale (`Inputs::region`, `sources`, `wall_width_m`).
+    pub seeing: Seeing,
+}
+
+/// How an image finds its wall, its ledges and its scale.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Seeing {
+    /// Where the wall is without a mask.
+    pub region: RegionMode,
+    /// Where water starts without source lines in the preset.
+    pub sources: SourcesMode,
+    /// The wall's width in metres, if known.
+    pub wall_width_m: Option<f32>,
 }
 
 impl Default for Options {
@@ -280,6 +295,7 @@ impl Default for Options {
             allow_inside_input: false,
             masks: None,
             layers_dirs: false,
+            seeing: Seeing::default(),
         }
     }
 }
@@ -331,6 +347,8 @@ pub struct Plan {
     pub listing_errors: Vec<ListingError>,
     /// The shard, if any.
     pub shard: Option<Shard>,
+    /// How images find their wall.
+    pub seeing: Seeing,
 }
 
 /// Output file names for `rel` (relative), one per format, before clashes
@@ -479,6 +497,7 @@ pub fn plan(input: &Path, output: &Path, opts: &Options) -> Result<Plan> {
         skipped,
         listing_errors,
         shard: opts.shard,
+        seeing: opts.seeing,
     })
 }
 

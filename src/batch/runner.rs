@@ -131,7 +131,7 @@ pub fn run(
             let Some(job) = plan.jobs.get(next.fetch_add(1, Ordering::Relaxed)) else {
                 break;
             };
-            let report = run_job(job, preset, cancel);
+            let report = run_job(plan, job, preset, cancel);
             on_done(&report);
             if let Ok(mut d) = done.lock() {
                 d.push(report);
@@ -166,7 +166,7 @@ pub fn run(
 
 /// Ages one job's image through the one entry point, creating output
 /// folders. A wall plane comes from the image's sidecar `<image>.quad`.
-fn age_job(job: &Job, preset: &Preset, progress: &Progress) -> crate::Result<()> {
+fn age_job(plan: &Plan, job: &Job, preset: &Preset, progress: &Progress) -> crate::Result<()> {
     if let Some(mask) = job.mask.as_ref().filter(|m| !m.exists()) {
         return Err(Error::MaskMissing {
             image: job.input.clone(),
@@ -176,6 +176,9 @@ fn age_job(job: &Job, preset: &Preset, progress: &Progress) -> crate::Result<()>
     let inputs = Inputs {
         mask: job.mask.clone(),
         quad: sidecar_quad(&job.input)?,
+        region: plan.seeing.region,
+        sources: plan.seeing.sources,
+        wall_width_m: plan.seeing.wall_width_m,
         ..Inputs::file(&job.input)
     };
     let outputs = Outputs {
@@ -205,7 +208,7 @@ pub fn sidecar_quad(image: &Path) -> crate::Result<Option<Quad>> {
         .map_err(|e| Error::Preset(format!("{}: {e}", path.display())))
 }
 
-fn run_job(job: &Job, preset: &Preset, cancel: Option<&AtomicBool>) -> FileReport {
+fn run_job(plan: &Plan, job: &Job, preset: &Preset, cancel: Option<&AtomicBool>) -> FileReport {
     let t = Instant::now();
     let seed = derive_seed(preset.seed, &job.rel);
     let result = match &job.problem {
@@ -213,7 +216,8 @@ fn run_job(job: &Job, preset: &Preset, cancel: Option<&AtomicBool>) -> FileRepor
         None => {
             let mut preset = preset.clone();
             preset.seed = seed;
-            age_job(job, &preset, &Progress::new(None, cancel)).map_err(|e| reason(&e, &job.input))
+            age_job(plan, job, &preset, &Progress::new(None, cancel))
+                .map_err(|e| reason(&e, &job.input))
         }
     };
     FileReport {

@@ -6,7 +6,7 @@ use anyhow::bail;
 use clap::Args;
 use grime::batch::{self, OutputFormat, Shard};
 
-use super::common::{PresetFlags, progress_bar};
+use super::common::{PresetFlags, SceneFlags, progress_bar};
 
 /// Age every photo in a folder, in parallel, into a mirrored output folder.
 ///
@@ -31,6 +31,8 @@ pub struct BatchArgs {
     output: PathBuf,
     #[command(flatten)]
     preset: PresetFlags,
+    #[command(flatten)]
+    scene: SceneFlags,
     /// Output formats, comma-separated: keep (the input's own), png, jpg,
     /// tif, webp, psd, ora. An output in the input's format keeps its name;
     /// others take its stem and the format's extension.
@@ -85,6 +87,7 @@ pub fn run(args: BatchArgs) -> anyhow::Result<()> {
         bail!("--jobs must be at least 1");
     }
     let opts = batch::Options {
+        seeing: args.scene.seeing()?,
         recursive: args.recursive,
         formats: args.format.clone(),
         shard: args.shard,

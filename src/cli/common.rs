@@ -71,3 +71,44 @@ pub fn progress_bar(quiet: bool, len: u64, template: &str) -> indicatif::Progres
     }
     bar
 }
+
+/// Flags that say how grime finds the wall in a photo without a mask.
+#[derive(Debug, Clone, Args)]
+pub struct SceneFlags {
+    /// Where the wall is when no --mask is given: `auto` (the scene
+    /// analysis leaves out sky, vegetation, glass and ground; a close-up of
+    /// a wall is all wall) or `full` (every pixel is wall).
+    #[arg(long, value_name = "auto|full", default_value = "auto", value_parser = ["auto", "full"])]
+    pub region: String,
+    /// Where rain water starts when the preset names no source lines:
+    /// `auto` (the ledges the analysis finds: sills, cornices, copings, the
+    /// roof line) or `top` (only the region's top edge).
+    #[arg(long, value_name = "auto|top", default_value = "auto", value_parser = ["auto", "top"])]
+    pub sources: String,
+    /// The wall's width, e.g. `14m` or `850cm`: sets the scene's scale
+    /// (metres per pixel) instead of estimating it from storeys and windows.
+    #[arg(long, value_name = "METRES")]
+    pub wall_width: Option<String>,
+}
+
+impl SceneFlags {
+    /// What the flags ask for.
+    pub fn seeing(&self) -> anyhow::Result<grime::batch::Seeing> {
+        use grime::age::{RegionMode, SourcesMode};
+        Ok(grime::batch::Seeing {
+            region: match self.region.as_str() {
+                "full" => RegionMode::Full,
+                _ => RegionMode::Auto,
+            },
+            sources: match self.sources.as_str() {
+                "top" => SourcesMode::Top,
+                _ => SourcesMode::Auto,
+            },
+            wall_width_m: self
+                .wall_width
+                .as_deref()
+                .map(grime::analysis::parse_metres)
+                .transpose()?,
+        })
+    }
+}

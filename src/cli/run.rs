@@ -8,7 +8,7 @@ use grime::age::{self, Inputs, Outputs, Source};
 use grime::perspective;
 use grime::progress::Progress;
 
-use super::common::{PresetFlags, progress_bar};
+use super::common::{PresetFlags, SceneFlags, progress_bar};
 
 /// Age one photo and write the result (and optionally its layers and a report).
 ///
@@ -18,6 +18,8 @@ use super::common::{PresetFlags, progress_bar};
 #[derive(Debug, Args)]
 #[command(after_help = "Examples:
   grime run --demo -o aged.png
+  grime run photo.jpg -o aged.png                  # wall and ledges found automatically
+  grime run photo.jpg -o aged.png --region full    # every pixel is wall
   grime run facade.jpg -o aged.png --mask wall.png --layers 12 --seed 7
   grime run facade.jpg -o aged.png --preset heavy-rain --set rain.k_a=0.7
   grime run facade.jpg -o aged.png --layers-dir layers/ --report report.json
@@ -50,6 +52,8 @@ pub struct RunArgs {
     normal_map: Option<PathBuf>,
     #[command(flatten)]
     preset: PresetFlags,
+    #[command(flatten)]
+    scene: SceneFlags,
     /// Also write each layer as an RGBA PNG plus manifest.json into DIR.
     #[arg(long, value_name = "DIR")]
     layers_dir: Option<PathBuf>,
@@ -68,6 +72,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         (None, Some(input)) => Source::File(input.clone()),
         (None, None) => bail!("give an input photo or --demo"),
     };
+    let seeing = args.scene.seeing()?;
     let inputs = Inputs {
         source,
         mask: args.mask,
@@ -77,6 +82,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             .as_deref()
             .map(perspective::parse_quad)
             .transpose()?,
+        region: seeing.region,
+        sources: seeing.sources,
+        wall_width_m: seeing.wall_width_m,
     };
     let outputs = Outputs {
         images: vec![args.output],

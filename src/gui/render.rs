@@ -302,6 +302,10 @@ pub fn export(job: ExportJob, progress: &Progress) -> Result<Exported> {
         mask: None,
         normal_map: None,
         quad: None,
+        // The document's own region and source lines, never re-detected.
+        region: age::RegionMode::Full,
+        sources: age::SourcesMode::Auto,
+        wall_width_m: None,
     };
     let outputs = age::Outputs {
         images: vec![job.path.clone()],
