@@ -47,14 +47,37 @@ pub struct Outcome {
 /// Each effect's last output and the preset it was made with, for
 /// [`run_cached`]. Made for one scene: a run on another scene (other photo,
 /// region, normals or quad buffers) starts it afresh.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct Cache {
+    /// Whether to keep outputs at all: a plain [`run`] keeps none (a copy
+    /// of every layer costs time and memory at full size).
+    keep: bool,
     scene: Option<Scene>,
     made: BTreeMap<Effect, (Preset, Produced)>,
     products: Products,
 }
 
+impl Default for Cache {
+    /// An empty cache that keeps what runs make.
+    fn default() -> Self {
+        Cache {
+            keep: true,
+            scene: None,
+            made: BTreeMap::new(),
+            products: Products::default(),
+        }
+    }
+}
+
 impl Cache {
+    /// A cache that keeps nothing.
+    fn none() -> Cache {
+        Cache {
+            keep: false,
+            ..Cache::default()
+        }
+    }
+
     /// The effects whose kept output is still valid for `preset` on `scene`
     /// (before the effects that read re-run ones are counted out).
     pub fn valid(&self, scene: &Scene, preset: &Preset) -> BTreeSet<Effect> {
@@ -75,7 +98,7 @@ impl Cache {
 /// [`Error::EmptyRegion`] for an empty mask, [`Error::Cancelled`] when the
 /// progress's cancel flag is set, a bad quad's or an invalid preset's error.
 pub fn run(scene: &Scene, preset: &Preset, progress: &Progress) -> Result<Outcome> {
-    run_cached(scene, preset, progress, &mut Cache::default())
+    run_cached(scene, preset, progress, &mut Cache::none())
 }
 
 /// [`run`], re-using from `cache` each effect whose output is still valid,
@@ -93,6 +116,7 @@ pub fn run_cached(
     let valid = cache.valid(scene, preset);
     if !cache.scene.as_ref().is_some_and(|s| s.same_as(scene)) {
         *cache = Cache {
+            keep: cache.keep,
             scene: Some(scene.clone()),
             ..Cache::default()
         };
@@ -159,7 +183,9 @@ fn run_effects(
                 rerun.insert(effect);
                 let made =
                     effect.run(&ctx, &mut cache.products, preset, &progress.span(at, end))?;
-                cache.made.insert(effect, (made_with.clone(), made.clone()));
+                if cache.keep {
+                    cache.made.insert(effect, (made_with.clone(), made.clone()));
+                }
                 clock.lap(effect.name());
                 made
             }
