@@ -4,6 +4,7 @@
 //! read from the labels. The `scene_eval` example runs it on the public
 //! datasets; the tests run it on [`super::synthetic`] scenes.
 
+use crate::analysis::neighbours;
 use std::fmt::Write as _;
 
 use super::scale::{STOREY_M, storey_px};
@@ -268,18 +269,7 @@ pub fn components(labels: &[u8], w: usize, h: usize, wanted: &[u8], min_px: usiz
                     stack.push(j);
                 }
             };
-            if x > 0 {
-                visit(i - 1);
-            }
-            if x + 1 < w {
-                visit(i + 1);
-            }
-            if y > 0 {
-                visit(i - w);
-            }
-            if y + 1 < h {
-                visit(i + w);
-            }
+            neighbours(i, w, h).for_each(&mut visit);
         }
         if n >= min_px {
             out.push(Band {

@@ -270,3 +270,16 @@ impl Analysis {
         self.classes[ay.min(self.analysis_height as usize - 1) * w + ax.min(w - 1)]
     }
 }
+
+/// The 4-neighbours of pixel `i` of a `w` x `h` row-major grid.
+pub(crate) fn neighbours(i: usize, w: usize, h: usize) -> impl Iterator<Item = usize> {
+    let (x, y) = (i % w, i / w);
+    [
+        (x > 0).then(|| i - 1),
+        (x + 1 < w).then(|| i + 1),
+        (y > 0).then(|| i - w),
+        (y + 1 < h).then(|| i + w),
+    ]
+    .into_iter()
+    .flatten()
+}

@@ -4,6 +4,7 @@
 //! hard labels become a soft matte with a guided filter (He, Sun and Tang,
 //! "Guided image filtering", 2010, eqs. (7)-(8)) on the photo's luma.
 
+use crate::analysis::neighbours;
 use std::collections::VecDeque;
 
 use image::GrayImage;
@@ -127,25 +128,13 @@ fn flood(
         }
     }
     while let Some(i) = queue.pop_front() {
-        let (x, y) = (i % w, i / w);
         let mut visit = |j: usize| {
             if cand[j] && !seen[j] && step_ok(i, j) {
                 seen[j] = true;
                 queue.push_back(j);
             }
         };
-        if x > 0 {
-            visit(i - 1);
-        }
-        if x + 1 < w {
-            visit(i + 1);
-        }
-        if y > 0 {
-            visit(i - w);
-        }
-        if y + 1 < h {
-            visit(i + w);
-        }
+        neighbours(i, w, h).for_each(&mut visit);
     }
     seen
 }
@@ -278,18 +267,7 @@ fn glass(f: &Features, class: &mut [Class]) {
                     members.push(j);
                 }
             };
-            if x > 0 {
-                visit(i - 1);
-            }
-            if x + 1 < w {
-                visit(i + 1);
-            }
-            if y > 0 {
-                visit(i - w);
-            }
-            if y + 1 < h {
-                visit(i + w);
-            }
+            neighbours(i, w, h).for_each(&mut visit);
         }
         let (bw, bh) = ((x1 - x0 + 1) as f32, (y1 - y0 + 1) as f32);
         let area = members.len() as f32;
