@@ -4,7 +4,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use grime::effects::gammaton;
 use grime::field::RowMajor;
-use grime::preset::{GammaSource, GammatonParams, SourceKind};
+use grime::preset::GammatonParams;
 use grime::progress::Progress;
 
 fn million(c: &mut Criterion) {
@@ -14,13 +14,7 @@ fn million(c: &mut Criterion) {
     let p = GammatonParams {
         enabled: true,
         particles: 1_000_000,
-        sources: vec![GammaSource {
-            kind: SourceKind::Sky,
-            share: 1.0,
-            points: Vec::new(),
-            spots: 0,
-            carries: vec![1.0],
-        }],
+        // The default source: rain from the sky carrying one unit of dirt.
         ..GammatonParams::default()
     };
     let mut group = c.benchmark_group("gammaton");

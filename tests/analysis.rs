@@ -2,8 +2,11 @@
 //! windows and ledges meet the targets; the close-up rule; determinism;
 //! errors; the `grime scene` binary end to end.
 
+mod common;
+
+use common::{grime, s};
+
 use std::path::Path;
-use std::process::{Command, Output};
 
 use grime::analysis::eval::Metrics;
 use grime::analysis::{self, LedgeKind, Options, synthetic};
@@ -186,17 +189,6 @@ fn user_wall_width_sets_the_scale() {
     assert_eq!(analysis::parse_metres("14m").unwrap(), 14.0);
     assert_eq!(analysis::parse_metres("1400cm").unwrap(), 14.0);
     assert!(analysis::parse_metres("-3m").is_err());
-}
-
-fn grime(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_grime"))
-        .args(args)
-        .output()
-        .expect("run grime")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 #[test]

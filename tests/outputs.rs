@@ -2,19 +2,12 @@
 //! two outputs to one file, and refuses a bad output before any work
 //! (issue 13 items 1-4 and 16). Also `--quad` and batch `.quad` sidecars.
 
+mod common;
+
+use common::{grime, s};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn grime(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_grime"))
-        .args(args)
-        .output()
-        .expect("run grime")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+use std::process::Output;
 
 /// A small photo at `dir/name`; returns its path and bytes.
 fn photo(dir: &Path, name: &str) -> (PathBuf, Vec<u8>) {

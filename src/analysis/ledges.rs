@@ -313,7 +313,8 @@ fn roof_line(class: &[Class], w: usize, h: usize) -> Vec<Ledge> {
         let start = x;
         while x < w
             && top[x].is_some()
-            && (x == start || top[x].unwrap().abs_diff(top[x - 1].unwrap()) <= h / 50 + 1)
+            && (x == start
+                || matches!((top[x], top[x - 1]), (Some(a), Some(b)) if a.abs_diff(b) <= h / 50 + 1))
         {
             x += 1;
         }
