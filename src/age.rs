@@ -131,8 +131,28 @@ pub struct Outputs {
 /// extension names no format.
 pub fn guard(inputs: &Inputs, outputs: &Outputs) -> Result<()> {
     let named = named_outputs(outputs)?;
+    guard_paths(
+        &inputs.paths(),
+        &named,
+        outputs.layers_dir.as_deref(),
+        outputs.create_dirs,
+    )
+}
+
+/// [`guard`] for any command's files: `named` are the output files with
+/// the flag that writes each (`-o`, `--report`, ...), `layers_dir` a folder
+/// the layers go into.
+///
+/// # Errors
+/// As [`guard`], but for the format check (the caller's).
+pub fn guard_paths(
+    inputs: &[&Path],
+    named: &[(PathBuf, String)],
+    layers_dir: Option<&Path>,
+    create_dirs: bool,
+) -> Result<()> {
     for (i, (path, what)) in named.iter().enumerate() {
-        if inputs.paths().iter().any(|input| same_path(input, path)) {
+        if inputs.iter().any(|input| same_path(input, path)) {
             return Err(Error::WouldOverwriteInput { path: path.clone() });
         }
         if let Some((_, first)) = named[..i].iter().find(|(p, _)| same_path(p, path)) {
@@ -143,9 +163,9 @@ pub fn guard(inputs: &Inputs, outputs: &Outputs) -> Result<()> {
             });
         }
     }
-    if let Some(dir) = &outputs.layers_dir {
+    if let Some(dir) = layers_dir {
         let clash = |p: &Path| layer_file_in(dir, p);
-        if let Some(input) = inputs.paths().into_iter().find(|p| clash(p)) {
+        if let Some(input) = inputs.iter().find(|p| clash(p)) {
             return Err(Error::WouldOverwriteInput {
                 path: input.to_path_buf(),
             });
@@ -158,8 +178,8 @@ pub fn guard(inputs: &Inputs, outputs: &Outputs) -> Result<()> {
             });
         }
     }
-    if !outputs.create_dirs {
-        for (path, _) in &named {
+    if !create_dirs {
+        for (path, _) in named {
             let dir = folder_of(path);
             if !dir.is_dir() {
                 return Err(Error::OutputFolderMissing { path: dir });

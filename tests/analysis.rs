@@ -364,3 +364,33 @@ fn run_and_batch_say_when_there_is_no_wall() {
     assert!(err.contains("1 succeeded, 1 failed"), "{err}");
     assert!(aged.join(street_png.file_name().unwrap()).is_file());
 }
+
+#[test]
+fn scene_refuses_two_outputs_on_one_file_and_a_missing_folder_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, _) = street(dir.path());
+    let same = dir.path().join("x.png");
+    let o = grime(&[
+        "scene",
+        s(&input),
+        "--mask-out",
+        s(&same),
+        "--overlay",
+        s(&same),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("--mask-out") && err.contains("--overlay"),
+        "{err}"
+    );
+    assert!(!same.exists(), "nothing written");
+    let o = grime(&[
+        "scene",
+        s(&input),
+        "-o",
+        s(&dir.path().join("no/scene.json")),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("output folder does not exist"), "{err}");
+}

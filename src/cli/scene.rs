@@ -42,12 +42,15 @@ pub struct SceneArgs {
 }
 
 pub fn run(args: SceneArgs) -> anyhow::Result<()> {
-    let outputs = [&args.output, &args.mask_out, &args.overlay];
-    for out in outputs.into_iter().flatten() {
-        if io::same_file(&args.input, out) {
-            return Err(grime::Error::WouldOverwriteInput { path: out.clone() }.into());
-        }
-    }
+    let named: Vec<(PathBuf, String)> = [
+        (&args.output, "-o"),
+        (&args.mask_out, "--mask-out"),
+        (&args.overlay, "--overlay"),
+    ]
+    .into_iter()
+    .filter_map(|(p, flag)| p.clone().map(|p| (p, flag.to_string())))
+    .collect();
+    grime::age::guard_paths(&[&args.input], &named, None, false)?;
     for img in [&args.mask_out, &args.overlay].into_iter().flatten() {
         io::Format::from_path(img)?;
     }

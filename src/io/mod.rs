@@ -315,14 +315,6 @@ pub fn mask_values(img: &DynamicImage) -> GrayImage {
     img.to_luma8()
 }
 
-/// True when `a` and `b` name the same existing file (or the same path).
-pub fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => a == b,
-    }
-}
-
 static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
 /// Writes a file atomically: `write` fills a temporary file next to `path`,
