@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 use crate::error::{Error, Result};
 use crate::export;
-use crate::io::{self, Format};
+use crate::io::{self, Format, folder_of};
 use crate::perspective::Quad;
 use crate::pipeline::{self, Outcome, Scene};
 use crate::preset::Preset;
@@ -206,14 +206,6 @@ fn named_outputs(outputs: &Outputs) -> Result<Vec<(PathBuf, String)>> {
 fn layer_file_in(dir: &Path, path: &Path) -> bool {
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
     same_path(&folder_of(path), dir) && export::layers_dir::is_own_file(name)
-}
-
-/// The folder `path` is in (`.` for a bare name).
-fn folder_of(path: &Path) -> PathBuf {
-    match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    }
 }
 
 /// Whether two paths name the same file, existing or not: the folder part

@@ -317,6 +317,14 @@ pub fn mask_values(img: &DynamicImage) -> GrayImage {
 
 static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
+/// The folder `path` is in (`.` for a bare file name).
+pub fn folder_of(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
 /// Writes a file atomically: `write` fills a temporary file next to `path`,
 /// which is then renamed over `path`. On any error the temporary file is
 /// removed and `path` is left as it was.
@@ -328,10 +336,7 @@ pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> Result<()>,
 ) -> Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
+    let dir = folder_of(path);
     if !dir.is_dir() {
         return Err(Error::io(
             path,

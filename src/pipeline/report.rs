@@ -81,14 +81,6 @@ pub struct Report {
 }
 
 impl Report {
-    /// The rain's whole-run numbers.
-    pub fn rain(&self) -> Option<&crate::effects::RainStats> {
-        match self.effects.get(&Effect::Rain) {
-            Some(Stats::Rain(s)) => Some(s),
-            _ => None,
-        }
-    }
-
     /// Moss numbers, when moss ran.
     pub fn moss(&self) -> Option<&MossStats> {
         match self.effects.get(&Effect::Moss) {
