@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::export;
 use crate::io::{self, Format, folder_of};
 use crate::perspective::Quad;
-use crate::pipeline::{self, Outcome, Scene};
+use crate::pipeline::{self, Outcome, Scene, Site};
 use crate::preset::Preset;
 use crate::progress::Progress;
 use crate::stack::Stack;
@@ -229,26 +229,33 @@ fn same_path(a: &Path, b: &Path) -> bool {
 /// Decoding errors naming the file, and the scene's size checks.
 pub fn load(inputs: &Inputs, preset: &Preset) -> Result<(Scene, Preset)> {
     let mut preset = preset.clone();
-    let (photo, region) = match &inputs.source {
-        Source::File(path) => (Arc::new(io::load_photo(path)?), None),
+    let (photo, region, site) = match &inputs.source {
+        Source::File(path) => (Arc::new(io::load_photo(path)?), None, None),
         Source::Demo(name) => {
             let d = crate::demo::load(name)?;
             if preset.rain.source_lines.is_empty() {
                 preset.rain.source_lines = d.source_lines;
             }
-            (Arc::new(d.photo), d.region.map(Arc::new))
+            (Arc::new(d.photo), d.region.map(Arc::new), Some(d.site))
         }
-        Source::Loaded { scene, .. } => (Arc::clone(&scene.photo), scene.region.clone()),
+        Source::Loaded { scene, .. } => (
+            Arc::clone(&scene.photo),
+            scene.region.clone(),
+            Some(scene.site.clone()),
+        ),
     };
     let region = match &inputs.mask {
         Some(m) => Some(Arc::new(io::load_mask(m, photo.width(), photo.height())?)),
         None => region,
     };
-    let region = match &inputs.source {
+    let (region, site) = match &inputs.source {
         Source::File(path) => see(inputs, path, &photo, region, &mut preset)?,
-        _ => region,
+        _ => (region, site),
     };
     let mut scene = Scene::shared(photo, region)?;
+    if let Some(site) = site {
+        scene = scene.with_site(site)?;
+    }
     if let Source::Loaded { scene: given, .. } = &inputs.source {
         scene.normals = given.normals.clone();
         scene.quad = given.quad;
@@ -263,10 +270,11 @@ pub fn load(inputs: &Inputs, preset: &Preset) -> Result<(Scene, Preset)> {
     Ok((scene, preset))
 }
 
-/// The region and ledges of a photo file from the scene analysis, as
+/// The region, ledges and site of a photo file from the scene analysis, as
 /// `inputs` asks: the wall when there is no mask (`RegionMode::Auto`), the
 /// ledges as source lines when the preset has none (`SourcesMode::Auto`),
-/// or only the top edge (`SourcesMode::Top`).
+/// or only the top edge (`SourcesMode::Top`). The site (scale, ground,
+/// shelter) comes from the analysis whenever it runs.
 ///
 /// # Errors
 /// [`Error::NoWall`] when the analysis finds no wall.
@@ -276,15 +284,15 @@ fn see(
     photo: &Arc<crate::photo::Photo>,
     region: Option<Arc<image::GrayImage>>,
     preset: &mut Preset,
-) -> Result<Option<Arc<image::GrayImage>>> {
+) -> Result<(Option<Arc<image::GrayImage>>, Option<Site>)> {
     if inputs.sources == SourcesMode::Top {
         preset.rain.source_lines.clear();
         preset.rain.top_edge = true;
     }
     let wants_region = region.is_none() && inputs.region == RegionMode::Auto;
     let wants_ledges = inputs.sources == SourcesMode::Auto && preset.rain.source_lines.is_empty();
-    if !wants_region && !wants_ledges {
-        return Ok(region);
+    if !wants_region && !wants_ledges && inputs.wall_width_m.is_none() {
+        return Ok((region, None));
     }
     let opts = crate::analysis::Options {
         wall_width_m: inputs.wall_width_m,
@@ -299,10 +307,12 @@ fn see(
         preset.rain.source_lines = seen.source_lines();
         preset.rain.top_edge = false;
     }
-    Ok(match wants_region {
+    let site = Site::seen(&seen);
+    let region = match wants_region {
         true => Some(Arc::new(seen.matte)),
         false => region,
-    })
+    };
+    Ok((region, Some(site)))
 }
 
 /// Ages `inputs` with `preset` and writes `outputs`.

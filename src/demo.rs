@@ -3,8 +3,10 @@
 
 use image::{DynamicImage, GrayImage, Luma, Rgb, RgbImage};
 
+use crate::analysis::{Ledge, LedgeKind};
 use crate::error::{Error, Result};
 use crate::photo::Photo;
+use crate::pipeline::Site;
 use crate::preset::SourceLine;
 use crate::random;
 
@@ -20,7 +22,16 @@ pub struct Demo {
     pub region: Option<GrayImage>,
     /// Ledges, photo pixels.
     pub source_lines: Vec<SourceLine>,
+    /// Its scale and ledges, known by construction.
+    pub site: Site,
 }
+
+/// Metres per pixel of the brick sample: a brick's 6.5 cm face plus its
+/// 1 cm joint spans about 33 pixels.
+const BRICK_METRES_PER_PIXEL: f32 = 0.075 / 33.0;
+
+/// Storey height of the procedural facade, in metres.
+const STOREY_M: f32 = 3.1;
 
 /// The built-in samples, by name.
 pub const NAMES: &[&str] = &["facade", "brick"];
@@ -37,10 +48,15 @@ pub fn load(name: &str) -> Result<Demo> {
                 path: "samples/brick-wall-cc0.png".into(),
                 reason: e.to_string(),
             })?;
+            let site = Site {
+                metres_per_pixel: BRICK_METRES_PER_PIXEL,
+                ..Site::assumed(img.width())
+            };
             Ok(Demo {
                 photo: Photo::new(img),
                 region: None,
                 source_lines: Vec::new(),
+                site,
             })
         }
         _ => Err(Error::Preset(format!(
@@ -155,10 +171,31 @@ pub fn facade(w: u32, h: u32) -> Demo {
             [s.2 as f32, s.3 as f32 + 2.0],
         ]);
     }
+    let ledges = source_lines
+        .iter()
+        .enumerate()
+        .map(|(i, line)| Ledge {
+            kind: if i == 0 {
+                LedgeKind::Cornice
+            } else {
+                LedgeKind::Sill
+            },
+            polyline: line.clone(),
+            confidence: 1.0,
+        })
+        .collect();
+    // A storey is the vertical spacing of the window rows (see `layout`).
+    let storey_px = (h * 2 / 5).max(1) as f32;
+    let site = Site {
+        metres_per_pixel: STOREY_M / storey_px,
+        ledges,
+        ..Site::assumed(w)
+    };
     Demo {
         photo: Photo::new(DynamicImage::ImageRgb8(img)),
         region: Some(region),
         source_lines,
+        site,
     }
 }
 

@@ -185,12 +185,25 @@ pub struct Context<'a> {
     pub wall: &'a region::Region<'a>,
     /// Tangent-space normal map at the photo's size, if given.
     pub normals: Option<&'a RgbImage>,
+    /// The building around the wall: scale in metres, ground, ledges,
+    /// shelter (photo pixels).
+    pub site: &'a crate::pipeline::Site,
 }
 
 impl Context<'_> {
     /// Photo width and height.
     pub fn size(&self) -> (u32, u32) {
         (self.wall.width(), self.wall.height())
+    }
+
+    /// Photo pixels for a length in metres, through the scene's scale.
+    pub fn photo_px(&self, metres: f32) -> f32 {
+        self.site.px(metres)
+    }
+
+    /// Grid pixels for a length in metres.
+    pub fn grid_px(&self, metres: f32) -> f32 {
+        self.site.px(metres) / self.grid.scale
     }
 }
 

@@ -11,6 +11,7 @@
 
 mod report;
 mod scene;
+mod site;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
@@ -27,6 +28,7 @@ use crate::stack::Stack;
 
 pub use report::{GridReport, LayerReport, Report, Size, Timing};
 pub use scene::Scene;
+pub use site::{ASSUMED_WALL_WIDTH_M, Site};
 
 use report::Clock;
 
@@ -151,6 +153,7 @@ fn run_effects(
         mask,
         wall: &wall,
         normals: scene.normals.as_deref(),
+        site: &scene.site,
     };
     clock.lap("grid");
     progress.update("prepare", 0.05);
@@ -253,6 +256,11 @@ fn in_plane(
     if let Some(normals) = &scene.normals {
         plane = plane.with_normals(rect.rectify_rgb(normals))?;
     }
+    // The plane keeps the wall's scale; ground, ledges and shelter are the
+    // photo's and are not carried into it (source lines are, below).
+    let (pw, ph) = plane.size();
+    let stretch = (quad_area(quad) / (pw as f32 * ph as f32)).sqrt();
+    plane.site.metres_per_pixel = scene.site.metres_per_pixel * stretch.max(1e-3);
     let mut plane_preset = preset.clone();
     for line in &mut plane_preset.rain.source_lines {
         for p in line.iter_mut() {
@@ -297,6 +305,17 @@ fn in_plane(
         rain: out.rain,
         grid: out.grid,
     })
+}
+
+/// Area of a quad in photo pixels (shoelace formula).
+fn quad_area(q: &Quad) -> f32 {
+    let twice: f32 = (0..4)
+        .map(|i| {
+            let (a, b) = (q[i], q[(i + 1) % 4]);
+            a[0] * b[1] - b[0] * a[1]
+        })
+        .sum();
+    twice.abs() / 2.0
 }
 
 #[cfg(test)]

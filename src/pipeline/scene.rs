@@ -9,6 +9,8 @@ use crate::error::{Error, Result};
 use crate::perspective::{self, Quad};
 use crate::photo::Photo;
 
+use super::site::Site;
+
 /// The photo and what is known about its wall. Build it with
 /// [`Scene::new`] and the `with_` methods, which check every part against
 /// the photo.
@@ -24,6 +26,8 @@ pub struct Scene {
     /// The wall plane: a quad on the photo whose corners are a rectangle on
     /// the wall. The effects then run in that plane ([`crate::perspective`]).
     pub quad: Option<Quad>,
+    /// The building around the wall: scale, ground, ledges, shelter.
+    pub site: Site,
 }
 
 impl Scene {
@@ -50,11 +54,13 @@ impl Scene {
                 img_h: photo.height(),
             });
         }
+        let site = Site::assumed(photo.width());
         Ok(Scene {
             photo,
             region,
             normals: None,
             quad: None,
+            site,
         })
     }
 
@@ -89,6 +95,32 @@ impl Scene {
         Ok(self)
     }
 
+    /// The scene with what is known of the building around the wall.
+    ///
+    /// # Errors
+    /// [`Error::MaskSize`] for a shelter map of another size than the photo,
+    /// [`Error::Preset`] for a scale that is not a positive number.
+    pub fn with_site(mut self, site: Site) -> Result<Scene> {
+        if !(site.metres_per_pixel.is_finite() && site.metres_per_pixel > 0.0) {
+            return Err(Error::Preset(format!(
+                "metres per pixel must be a positive number, not {}",
+                site.metres_per_pixel
+            )));
+        }
+        if let Some(s) = &site.shelter
+            && s.dimensions() != self.size()
+        {
+            return Err(Error::MaskSize {
+                mask_w: s.width(),
+                mask_h: s.height(),
+                img_w: self.photo.width(),
+                img_h: self.photo.height(),
+            });
+        }
+        self.site = site;
+        Ok(self)
+    }
+
     /// Photo width and height.
     pub fn size(&self) -> (u32, u32) {
         (self.photo.width(), self.photo.height())
@@ -108,5 +140,9 @@ impl Scene {
             && same(&self.region, &other.region)
             && same(&self.normals, &other.normals)
             && self.quad == other.quad
+            && self.site.metres_per_pixel == other.site.metres_per_pixel
+            && self.site.ground == other.site.ground
+            && self.site.ledges == other.site.ledges
+            && same(&self.site.shelter, &other.site.shelter)
     }
 }

@@ -1,0 +1,134 @@
+//! What grime knows of the building around the wall: its scale in metres,
+//! where the wall meets the ground, its ledges and where they shelter it
+//! from rain. The scene analysis fills it for a photo ([`Site::seen`]); the
+//! demo knows its own; a scene without one gets [`Site::assumed`].
+//!
+//! Effects size what they draw in metres through [`Site::metres_per_pixel`]
+//! (issue "looks like a photograph": a lichen colony is centimetres, a
+//! streak fades over a metre or two), and place moss and dust with the
+//! ground line, the ledges and the shelter.
+
+use std::sync::Arc;
+
+use image::GrayImage;
+
+use crate::analysis::{Analysis, Class, Ledge};
+
+/// Width of the wall when nothing says otherwise, in metres (the analysis
+/// makes the same assumption, `ScaleSource::Default`).
+pub const ASSUMED_WALL_WIDTH_M: f32 = 10.0;
+
+/// The building around the wall, in photo pixels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Site {
+    /// Metres per photo pixel.
+    pub metres_per_pixel: f32,
+    /// Per photo column, the row where the wall stands on the ground, when
+    /// the photo shows the ground below it (`NaN` where it does not).
+    /// Empty when unknown.
+    pub ground: Vec<f32>,
+    /// Ledges (sills, cornices, ...), photo pixels, top to bottom.
+    pub ledges: Vec<Ledge>,
+    /// Rain shelter at the photo's size, 255 = fully sheltered; `None` =
+    /// unknown (nothing sheltered).
+    pub shelter: Option<Arc<GrayImage>>,
+}
+
+impl Site {
+    /// Nothing known: the photo is taken to show a wall
+    /// [`ASSUMED_WALL_WIDTH_M`] wide.
+    pub fn assumed(width: u32) -> Site {
+        Site {
+            metres_per_pixel: ASSUMED_WALL_WIDTH_M / width.max(1) as f32,
+            ground: Vec::new(),
+            ledges: Vec::new(),
+            shelter: None,
+        }
+    }
+
+    /// What the scene analysis saw.
+    pub fn seen(a: &Analysis) -> Site {
+        Site {
+            metres_per_pixel: a.scale.metres_per_pixel,
+            ground: ground_line(a),
+            ledges: a.ledges.clone(),
+            shelter: Some(Arc::new(GrayImage::from_fn(a.width, a.height, |x, y| {
+                let s = a.shelter_at(x as f32 + 0.5, y as f32 + 0.5);
+                image::Luma([(s.clamp(0.0, 1.0) * 255.0).round() as u8])
+            }))),
+        }
+    }
+
+    /// Photo pixels for a length in metres.
+    pub fn px(&self, metres: f32) -> f32 {
+        metres / self.metres_per_pixel
+    }
+
+    /// The ground row under photo column `x`, if the wall meets the ground
+    /// there.
+    pub fn ground_at(&self, x: u32) -> Option<f32> {
+        self.ground
+            .get(x as usize)
+            .copied()
+            .filter(|g| g.is_finite())
+    }
+
+    /// Rain shelter at photo pixel (x, y), 0..1.
+    pub fn shelter_at(&self, x: u32, y: u32) -> f32 {
+        match &self.shelter {
+            Some(s) if x < s.width() && y < s.height() => s.get_pixel(x, y)[0] as f32 / 255.0,
+            _ => 0.0,
+        }
+    }
+}
+
+/// Per photo column, the lowest wall row that has ground (road, pavement)
+/// right below it in the analysis; `NaN` where the column ends in wall or in
+/// anything else (the frame cuts the wall, a car stands in front).
+fn ground_line(a: &Analysis) -> Vec<f32> {
+    let (aw, ah) = (a.analysis_width as usize, a.analysis_height as usize);
+    let per_column: Vec<f32> = (0..aw)
+        .map(|x| {
+            let class = |y: usize| a.classes[y * aw + x];
+            let mut y = ah;
+            while y > 0 && class(y - 1) == Class::Ground {
+                y -= 1;
+            }
+            let wall_above = y > 0 && class(y - 1) == Class::Wall;
+            match (y < ah, wall_above) {
+                (true, true) => y as f32 * a.height as f32 / ah as f32,
+                _ => f32::NAN,
+            }
+        })
+        .collect();
+    (0..a.width)
+        .map(|x| per_column[(x as usize * aw / a.width as usize).min(aw - 1)])
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::{self, Options};
+
+    #[test]
+    fn an_assumed_site_is_ten_metres_wide() {
+        let s = Site::assumed(1000);
+        assert!((s.px(1.0) - 100.0).abs() < 1e-3);
+        assert_eq!(s.ground_at(5), None);
+        assert_eq!(s.shelter_at(5, 5), 0.0);
+    }
+
+    #[test]
+    fn a_seen_site_finds_the_ground_under_a_synthetic_wall() {
+        let sc = analysis::synthetic::scene(3, 480, 360);
+        let a = analysis::analyse(&sc.photo, &Options::default()).unwrap();
+        let site = Site::seen(&a);
+        assert_eq!(site.ground.len(), 480);
+        assert_eq!(site.metres_per_pixel, a.scale.metres_per_pixel);
+        let found: Vec<f32> = (0..480).filter_map(|x| site.ground_at(x)).collect();
+        assert!(found.len() > 240, "ground found in {} columns", found.len());
+        let mean = found.iter().sum::<f32>() / found.len() as f32;
+        assert!(mean > 180.0, "the ground is in the lower half: {mean}");
+    }
+}
