@@ -71,6 +71,8 @@ fn moss_facade(c: &mut Criterion) {
             dirt: &out.rain.dirt,
             d_max: moss::d_max(&out.rain.dirt, &grid_region, preset.stain.percentile),
         }),
+        habitat: None,
+        baseline: demo.site.px(preset.moss.colony_m),
     };
     let p = Preset::default().moss;
     let mut g = c.benchmark_group("moss");

@@ -233,8 +233,10 @@ pub fn load(inputs: &Inputs, preset: &Preset) -> Result<(Scene, Preset)> {
         Source::File(path) => (Arc::new(io::load_photo(path)?), None, None),
         Source::Demo(name) => {
             let d = crate::demo::load(name)?;
-            if preset.rain.source_lines.is_empty() {
+            if preset.rain.source_lines.is_empty() && !d.source_lines.is_empty() {
+                // The demo's cornice is its roof line: no top edge besides.
                 preset.rain.source_lines = d.source_lines;
+                preset.rain.top_edge = false;
             }
             (Arc::new(d.photo), d.region.map(Arc::new), Some(d.site))
         }

@@ -70,6 +70,8 @@ pub fn load(name: &str) -> Result<Demo> {
 pub struct Layout {
     /// Sky above this row (not wall).
     pub roof: u32,
+    /// Pavement from this row down (not wall): the wall stands on it.
+    pub ground: u32,
     /// Cornice band: top and bottom rows.
     pub cornice: (u32, u32),
     /// Windows as (x0, y0, x1, y1), exclusive ends; their sills lie below.
@@ -97,6 +99,7 @@ pub fn layout(w: u32, h: u32) -> Layout {
     }
     Layout {
         roof,
+        ground: h - h / 20,
         cornice,
         windows,
         sills,
@@ -108,7 +111,7 @@ fn inside(r: &(u32, u32, u32, u32), x: u32, y: u32) -> bool {
 }
 
 /// A procedural plaster facade: sky, cornice, two rows of windows with
-/// sills. The region is the wall (not sky, not glass); the source lines are
+/// sills, standing on a pavement. The region is the wall (not sky, not glass); the source lines are
 /// the lower edges of the cornice and of every sill.
 pub fn facade(w: u32, h: u32) -> Demo {
     let l = layout(w, h);
@@ -125,6 +128,12 @@ pub fn facade(w: u32, h: u32) -> Demo {
         let mottle = mottle_noise.at(fx, fy) - 0.5;
         let shade =
             |base: [f32; 3], k: f32| Rgb(base.map(|c| (c * (1.0 + k)).clamp(0.0, 255.0) as u8));
+        if y >= l.ground {
+            // Paving slabs with dark joints.
+            let joint = x % (w / 12).max(4) < 2 || (y - l.ground) % (h / 12).max(4) == 0;
+            let k = if joint { -0.35 } else { 0.25 * grain + 0.1 * mottle };
+            return shade([128.0, 124.0, 116.0], k);
+        }
         if y >= l.cornice.0 && y < l.cornice.1 {
             let ridge = if (y - l.cornice.0) % 6 < 2 {
                 -0.08
@@ -158,7 +167,7 @@ pub fn facade(w: u32, h: u32) -> Demo {
         shade([214.0, 196.0, 168.0], 0.16 * grain + 0.10 * mottle)
     });
     let region = GrayImage::from_fn(w, h, |x, y| {
-        let wall = y >= l.roof && !l.windows.iter().any(|win| inside(win, x, y));
+        let wall = y >= l.roof && y < l.ground && !l.windows.iter().any(|win| inside(win, x, y));
         Luma([if wall { 255 } else { 0 }])
     });
     let mut source_lines: Vec<SourceLine> = vec![vec![
@@ -188,8 +197,9 @@ pub fn facade(w: u32, h: u32) -> Demo {
     let storey_px = (h * 2 / 5).max(1) as f32;
     let site = Site {
         metres_per_pixel: STOREY_M / storey_px,
+        ground: vec![l.ground as f32; w as usize],
         ledges,
-        ..Site::assumed(w)
+        shelter: None,
     };
     Demo {
         photo: Photo::new(DynamicImage::ImageRgb8(img)),

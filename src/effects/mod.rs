@@ -25,12 +25,14 @@
 
 pub mod dust;
 pub mod gammaton;
+pub mod habitat;
 pub mod moss;
 pub mod patches;
 pub mod percentile;
 pub mod rain;
 pub mod region;
 pub mod roughness;
+pub mod surface;
 mod stages;
 
 use std::collections::BTreeSet;
@@ -173,6 +175,8 @@ impl Effect {
 
 /// The read-only inputs every effect shares.
 pub struct Context<'a> {
+    /// The photo.
+    pub photo: &'a crate::photo::Photo,
     /// The simulation grid.
     pub grid: &'a Grid,
     /// Luminance on the grid, 0..255.

@@ -41,7 +41,8 @@
 //! **What it looks like.** Chang's point-based fractal: a mountain-shaped
 //! generator `(0,0) (1/3,0) (1/2,peak) (2/3,0) (1,0)` replaces every segment
 //! of a baseline, `iterations` times, and only the vertices are drawn, as
-//! dots. The baseline is `moss.baseline` (1/40) of the region's width. Each
+//! dots. The baseline is `moss.colony_m` through the scene's scale (or,
+//! when set, Chang's `moss.baseline` fraction of the region's width). Each
 //! arm of a colony is such a baseline from its centre outward [choice: arms
 //! at even angles make the round rosettes of real colonies]. Every
 //! replacement flips to a random side and scales its peak by U(0.5, 1.5)
@@ -89,6 +90,12 @@ pub struct MossInput<'a> {
     pub region: &'a RowMajor<bool>,
     /// The rain's water and dirt, on the grid; `None` = use `humidity`.
     pub wet: Option<Wet<'a>>,
+    /// Where the wall stays wet (splash zone, ledge tops, joints,
+    /// shelter; see [`super::habitat`]), 0..1 on the grid, multiplying
+    /// eq. 18; `None` = everywhere alike (Chang's own).
+    pub habitat: Option<&'a RowMajor<f32>>,
+    /// Fractal baseline, photo pixels: a colony's typical radius.
+    pub baseline: f32,
 }
 
 impl MossInput<'_> {
@@ -179,8 +186,20 @@ pub fn probability(input: &MossInput, p: &MossParams) -> RowMajor<f32> {
         .into_par_iter()
         .map(|i| {
             let m_y = roughness::m_y_clamped(input.luma, i % w, i / w);
-            // Chang eq. (18), with wet = 1/2 (w/a + D/D_max).
-            (wet.data()[i] * m_y * p.gamma).clamp(0.0, 1.0)
+            let place = input.habitat.map_or(1.0, |h| h.data()[i]);
+            // Chang eq. (18), with wet = 1/2 (w/a + D/D_max), times the
+            // habitat [choice: eq. 18 alone lets moss take anywhere the
+            // rain wetted; real growth keeps to where water stands, and
+            // those places are wet whether a streak passes or not (splash,
+            // standing water on a ledge), so they count as at least half
+            // wet.
+            // They hold water on any surface, so they count as at least
+            // that rough too].
+            let (wet, m_y) = match input.habitat {
+                Some(_) => (wet.data()[i].max(0.5 * place), m_y.max(0.4 * place)),
+                None => (wet.data()[i], m_y),
+            };
+            (wet * m_y * p.gamma * place).clamp(0.0, 1.0)
         })
         .collect();
     RowMajor::new(w, h, values)
@@ -218,7 +237,7 @@ pub fn grow(
     progress: &Progress,
 ) -> Result<Moss> {
     let f = probability(input, p);
-    let baseline = (p.baseline * grid.box_w as f32).max(1.0);
+    let baseline = input.baseline.max(1.0);
     let colonies = colonise(input, &f, grid, region, p, baseline, seed, progress)?;
     progress.update("moss", 0.5);
     let dots: Vec<Vec<Dot>> = colonies
@@ -371,7 +390,7 @@ pub fn d_max<O: Order>(dirt: &Field<f32, O>, region: &Field<bool, O>, q: f32) ->
 
 /// Mean of `values` over the region cells within `radius` (a square
 /// window), per grid cell; 0 outside the region.
-fn box_mean(values: &RowMajor<f32>, region: &RowMajor<bool>, radius: usize) -> RowMajor<f32> {
+pub(crate) fn box_mean(values: &RowMajor<f32>, region: &RowMajor<bool>, radius: usize) -> RowMajor<f32> {
     let (w, h) = (values.width(), values.height());
     let (values, region) = (values.data(), region.data());
     // Separable running sums of value and of region membership.
@@ -459,8 +478,14 @@ fn colony_dots(c: &Colony, index: usize, p: &MossParams, baseline: f32, seed: u6
     };
     let arms = 1 + (5.0 * grown).round() as u32;
     let radius = baseline * c.size * (0.35 + 0.65 * grown);
-    let base = p.color.rgb().map(f32::from);
-    let step = radius / 4f32.powi(p.iterations as i32);
+    // [choice] No finer than about a pixel between vertices: a colony a
+    // few pixels across at facade scale is a blotch, not a rosette.
+    let mut iterations = p.iterations;
+    while iterations > 1 && radius / 4f32.powi(iterations as i32) < 0.7 {
+        iterations -= 1;
+    }
+    let base = species(p, &mut rng);
+    let step = radius / 4f32.powi(iterations as i32);
     let mut dots = Vec::new();
     for arm in 0..arms {
         let angle = c.angle
@@ -470,7 +495,7 @@ fn colony_dots(c: &Colony, index: usize, p: &MossParams, baseline: f32, seed: u6
         let end = (c.x + len * angle.cos(), c.y + len * angle.sin());
         // The centre is shared by every arm: draw it once.
         let skip = usize::from(arm > 0);
-        for (x, y) in fractal((c.x, c.y), end, p.iterations, p.peak, &mut rng)
+        for (x, y) in fractal((c.x, c.y), end, iterations, p.peak, &mut rng)
             .into_iter()
             .skip(skip)
         {
@@ -487,6 +512,32 @@ fn colony_dots(c: &Colony, index: usize, p: &MossParams, baseline: f32, seed: u6
         }
     }
     dots
+}
+
+/// Grey-green lichen, dark green moss and orange Caloplaca, with the
+/// share of colonies each takes besides `moss.color` when `mixed_species`
+/// is on (`how-facades-age.md`, "Living growth").
+const SPECIES: [([f32; 3], f32); 3] = [
+    ([146.0, 154.0, 124.0], 0.35),
+    ([66.0, 84.0, 40.0], 0.2),
+    ([184.0, 132.0, 64.0], 0.06),
+];
+
+/// A colony's base colour: its species', a little lighter or darker.
+fn species(p: &MossParams, rng: &mut Rng) -> [f32; 3] {
+    let mut base = p.color.rgb().map(f32::from);
+    if p.mixed_species {
+        let mut pick: f32 = rng.random();
+        for (rgb, share) in SPECIES {
+            if pick < share {
+                base = rgb;
+                break;
+            }
+            pick -= share;
+        }
+    }
+    let light = 0.85 + 0.3 * rng.random::<f32>();
+    base.map(|v| (v * light).min(255.0))
 }
 
 /// Draws the dots in colony order, row band by row band (each band is
@@ -610,6 +661,8 @@ mod tests {
                 dirt: &dirt,
                 d_max: 4.0,
             }),
+            habitat: None,
+            baseline: 1.0,
         };
         let p = MossParams {
             gamma: 1.0,
@@ -672,6 +725,8 @@ mod tests {
                 dirt: &dirt,
                 d_max: 1.0,
             }),
+            habitat: None,
+            baseline: w as f32 / 40.0,
         };
         let grid = Grid::new(w as u32, h as u32, None, 0).unwrap();
         let photo_region = Region::new(w as u32, h as u32, None).unwrap();
@@ -717,6 +772,8 @@ mod tests {
             luma: &luma,
             region: &grid_region,
             wet: None,
+            habitat: None,
+            baseline: 1.5,
         };
         let region = Region::new(w as u32, h as u32, Some(&mask)).unwrap();
         let p = MossParams {

@@ -6,8 +6,9 @@ use std::sync::Arc;
 use serde::Serialize;
 
 use super::moss::{self, MossInput, Wet};
-use super::rain::{self, RainInput};
-use super::{Context, Effect, Produced, Products, Stats, dust};
+use super::rain::{self, RainInput, sources::Release};
+use super::{Context, Effect, Produced, Products, Stats, dust, habitat, surface};
+use crate::field::RowMajor;
 use crate::error::Result;
 use crate::preset::Preset;
 use crate::progress::Progress;
@@ -49,32 +50,47 @@ pub(super) fn rain(
 ) -> Result<Produced> {
     let grid = ctx.grid;
     let (w, h) = ctx.size();
-    let source_lines = preset
-        .rain
+    let r = &preset.rain;
+    let source_lines: Vec<Vec<(f32, f32)>> = r
         .source_lines
         .iter()
         .map(|line| line.iter().map(|p| grid.to_grid(p[0], p[1])).collect())
         .collect();
+    let release = Release {
+        spacing: ctx.grid_px(r.drip_spacing_m),
+        width: ctx.grid_px(r.release_width_m),
+        end_share: r.end_share,
+    };
     let input = RainInput {
         luma: ctx.luma,
         region: ctx.region,
         source_lines,
+        release,
     };
-    let out = rain::simulate(&input, &preset.rain, preset.seed, &progress.span(0.0, 0.87))?;
+    let out = rain::simulate(&input, r, preset.seed, &progress.span(0.0, 0.87))?;
+    let top_edge = r.top_edge.then(|| top_rows(ctx.region));
+    let fade = rain::fall::fade(
+        grid.width,
+        grid.height,
+        &input.source_lines,
+        top_edge.as_deref(),
+        ctx.grid_px(r.fall_m),
+        3.0 * release.width,
+    );
+    let blur = preset.stain.softness + ctx.grid_px(preset.stain.blur_m);
 
     let d_max = rain::stain::d_max(&out.layers, preset.stain.percentile);
     let mut layers = Vec::with_capacity(out.layers.len());
     let mut layer_stats = Vec::with_capacity(out.layers.len());
     let mut coverage = rain::stain::Coverage::new(grid.width, grid.height);
+    let mut widened = rain::stain::Coverage::new(grid.width, grid.height);
     for (i, rl) in out.layers.iter().enumerate() {
         progress.check()?;
         progress.update("stain", 0.87 + 0.13 * i as f32 / out.layers.len() as f32);
-        let alpha = grid.upsample(
-            coverage.of(&rl.deposit, d_max, &preset.stain),
-            ctx.mask,
-            w,
-            h,
-        );
+        let wide = widened.of(&rl.deposit, d_max, &preset.stain, blur + 2.0 * release.width);
+        let cover = coverage.of(&rl.deposit, d_max, &preset.stain, blur);
+        rain::fall::widen(cover, wide, &fade);
+        let alpha = grid.upsample(cover, ctx.mask, w, h);
         let pixels = LayerPixels::Tint {
             color: preset.stain.color,
             alpha,
@@ -98,6 +114,13 @@ pub(super) fn rain(
             d_max,
         }),
     })
+}
+
+/// The first region row of each grid column (the top-edge source).
+fn top_rows(region: &crate::field::RowMajor<bool>) -> Vec<Option<usize>> {
+    (0..region.width())
+        .map(|x| (0..region.height()).find(|&y| region.get(x, y)))
+        .collect()
 }
 
 /// A rain layer follows the preset's stain colour and opacity, and shows
@@ -125,12 +148,20 @@ pub(super) fn moss(
         dirt: &r.dirt,
         d_max: moss::d_max(&r.dirt, ctx.region, preset.stain.percentile),
     });
+    let p = &preset.moss;
+    let habitat = moss_habitat(ctx, p, preset.seed);
+    let baseline = match p.baseline > 0.0 {
+        true => p.baseline * ctx.grid.box_w as f32,
+        false => ctx.photo_px(p.colony_m),
+    };
     let input = MossInput {
         luma: ctx.luma,
         region: ctx.region,
         wet,
+        habitat: (p.open_wall < 1.0).then_some(&habitat),
+        baseline,
     };
-    let grown = moss::grow(
+    let mut grown = moss::grow(
         &input,
         ctx.grid,
         ctx.wall,
@@ -138,6 +169,8 @@ pub(super) fn moss(
         preset.seed,
         progress,
     )?;
+    let l_wall = surface::wall_luma(ctx.luma, ctx.region);
+    surface::modulate(&mut grown.layer, ctx.photo, l_wall);
     let pixels = LayerPixels::Rgba(grown.layer);
     let layer = layer(
         Effect::Moss,
@@ -153,11 +186,61 @@ pub(super) fn moss(
     })
 }
 
-/// The "dust film" and "dust granules" layers (Santos & Baranoski).
+/// Where moss takes (see [`habitat`]): 1 in the splash zone, on ledge
+/// tops and in joints and rain shelter (a little less), `open_wall` on the
+/// rest of the wall.
+fn moss_habitat(ctx: &Context, p: &crate::preset::MossParams, seed: u64) -> RowMajor<f32> {
+    let mut map = habitat::splash(ctx, p.splash_m);
+    let tops = habitat::ledge_tops(ctx, p.ledge_top_m);
+    let joints = habitat::joints(ctx);
+    let shelter = habitat::shelter(ctx);
+    for (((v, t), j), s) in map
+        .data_mut()
+        .iter_mut()
+        .zip(tops.data())
+        .zip(joints.data())
+        .zip(shelter.data())
+    {
+        *v = v.max(*t).max(0.7 * j).max(0.6 * s);
+    }
+    // [choice] Growth is patchy along a ledge or a wall's foot: fBm about
+    // PATCH_M across scales the places between 0.2 and 1.
+    let (w, h) = (ctx.grid.width, ctx.grid.height);
+    let key = crate::random::key(seed, (Effect::Moss, PATCHES), 0, 0);
+    let noise = crate::random::Noise::new(key, w as u32, h as u32, ctx.grid_px(PATCH_M), 3);
+    for (i, v) in map.data_mut().iter_mut().enumerate() {
+        let patch = (1.6 * noise.at((i % w) as f32, (i / w) as f32) - 0.3).clamp(0.2, 1.0);
+        *v = (*v * patch).max(p.open_wall);
+    }
+    map
+}
+
+/// Size of the patches moss keeps to along its places, metres.
+const PATCH_M: f32 = 0.5;
+
+/// The moss's own stream for its patches.
+const PATCHES: u16 = 1;
+
+/// The "dust film" and "dust granules" layers (Santos & Baranoski), at the
+/// scene's scale, settled where rain does not wash: on ledge tops and in
+/// rain shelter, `open_wall` as much on the rest.
 pub(super) fn dust(ctx: &Context, preset: &Preset, progress: &Progress) -> Result<Produced> {
-    let p = &preset.dust;
-    let (film, granules, stats) =
+    let p = &dust::at_scale(&preset.dust, ctx.site.metres_per_pixel);
+    let (mut film, mut granules, stats) =
         dust::accumulate(ctx.wall, ctx.normals, p, preset.seed, progress)?;
+    if p.open_wall < 1.0 {
+        let mut settle = habitat::ledge_tops(ctx, p.ledge_top_m);
+        let shelter = habitat::shelter(ctx);
+        for (v, s) in settle.data_mut().iter_mut().zip(shelter.data()) {
+            *v = p.open_wall + (1.0 - p.open_wall) * v.max(*s);
+        }
+        let (w, h) = ctx.size();
+        let settle = ctx.grid.upsample(&settle, ctx.mask, w, h);
+        settle_alpha(film.as_mut(), 4, &settle);
+        settle_alpha(granules.as_mut(), 1, &settle);
+    }
+    let l_wall = surface::wall_luma(ctx.luma, ctx.region);
+    surface::modulate(&mut film, ctx.photo, l_wall);
     let film = LayerPixels::Rgba(film);
     let granules = LayerPixels::Tint {
         color: p.granule_color,
@@ -184,4 +267,17 @@ pub(super) fn dust(ctx: &Context, preset: &Preset, progress: &Progress) -> Resul
         layer_stats: vec![None, None],
         stats: Stats::Dust(stats),
     })
+}
+
+/// Scales the alpha (the last of `channels` per pixel) of `pixels` by
+/// `settle` (0..255 per pixel).
+fn settle_alpha(pixels: &mut [u8], channels: usize, settle: &image::GrayImage) {
+    use rayon::prelude::*;
+    pixels
+        .par_chunks_exact_mut(channels)
+        .zip(settle.as_raw().par_iter())
+        .for_each(|(px, s)| {
+            let a = &mut px[channels - 1];
+            *a = ((*a as u32 * *s as u32 + 127) / 255) as u8;
+        });
 }

@@ -147,6 +147,7 @@ fn run_effects(
     let region = grid.region(mask);
     let wall = Region::new(w, h, mask)?;
     let ctx = Context {
+        photo: &scene.photo,
         grid: &grid,
         luma: &luma,
         region: &region,

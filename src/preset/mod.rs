@@ -139,6 +139,16 @@ pub struct RainParams {
     pub top_edge: bool,
     /// Extra water sources: polylines in photo pixels (sills, cornices).
     pub source_lines: Vec<SourceLine>,
+    /// Mean spacing of the drip points along a ledge, metres; 0 = water
+    /// leaves anywhere along it (Chang's uniform start).
+    pub drip_spacing_m: f32,
+    /// Share of a ledge's water released at its two ends, 0..1.
+    pub end_share: f32,
+    /// Width of a release point (a streak's width at its top), metres.
+    pub release_width_m: f32,
+    /// Fall over which a streak's darkness fades (to a tenth), metres;
+    /// 0 = no fading.
+    pub fall_m: f32,
 }
 
 impl Default for RainParams {
@@ -173,6 +183,10 @@ impl Default for RainParams {
             dirt_coupling: 0.5,
             top_edge: true,
             source_lines: Vec::new(),
+            drip_spacing_m: 0.9,
+            end_share: 0.5,
+            release_width_m: 0.025,
+            fall_m: 1.5,
         }
     }
 }
@@ -191,16 +205,19 @@ pub struct StainParams {
     pub percentile: f32,
     /// Blur radius of the stain edge, grid pixels.
     pub softness: f32,
+    /// Blur radius of the stain edge, metres (added to `softness`).
+    pub blur_m: f32,
 }
 
 impl Default for StainParams {
     fn default() -> Self {
         StainParams {
-            color: [62, 54, 44],
-            opacity: 0.8,
+            color: [86, 76, 62],
+            opacity: 0.5,
             strength: 0.6,
             percentile: 0.99,
-            softness: 0.8,
+            softness: 0.0,
+            blur_m: 0.01,
         }
     }
 }
@@ -244,8 +261,21 @@ pub struct MossParams {
     pub color_jitter: f32,
     /// Layer opacity.
     pub opacity: f32,
-    /// Fractal baseline as a fraction of the region's width (Chang: 1/40).
+    /// Fractal baseline as a fraction of the region's width (Chang: 1/40);
+    /// 0 = `colony_m` through the scene's scale.
     pub baseline: f32,
+    /// A colony's typical radius, metres (lichen patches are centimetres).
+    pub colony_m: f32,
+    /// Height of the splash zone above the ground, metres.
+    pub splash_m: f32,
+    /// Depth of the wet band on a ledge's top, metres.
+    pub ledge_top_m: f32,
+    /// How much moss the open wall takes, 0..1, against 1 in the splash
+    /// zone, on ledge tops, in joints and in shelter.
+    pub open_wall: f32,
+    /// Mix species: grey-green lichen, dark moss and orange Caloplaca
+    /// besides `color`.
+    pub mixed_species: bool,
     /// Generator iterations (vertices per arm = 4^iterations + 1).
     pub iterations: u32,
     /// Height of the generator's peak, fraction of its base.
@@ -272,14 +302,19 @@ impl Default for MossParams {
             gamma: 1.5,
             humidity: 0.5,
             color: MossColor::YellowGreen,
-            color_jitter: 24.0,
+            color_jitter: 14.0,
             opacity: 0.9,
-            baseline: 1.0 / 40.0,
+            baseline: 0.0,
+            colony_m: 0.05,
+            splash_m: 0.4,
+            ledge_top_m: 0.15,
+            open_wall: 0.05,
+            mixed_species: true,
             iterations: 3,
             peak: 0.45,
             dot_size: 0.03,
-            seed_rate: 1.0,
-            spread: 0.8,
+            seed_rate: 0.3,
+            spread: 0.5,
             spread_distance: 0.8,
             size_spread: 0.5,
             maturity: 4.0,
@@ -352,9 +387,11 @@ pub struct DustParams {
     pub film_segments: Vec<Segment>,
     /// Custom granule rates, used when `environment = "custom"`.
     pub mask_segments: Vec<Segment>,
-    /// Pixels per inch of the wall; sets the area A of eq. 1.
+    /// Pixels per inch of the wall; sets the area A of eq. 1. 0 = from the
+    /// scene's scale (Santos' texture is 150 ppi).
     pub ppi: f64,
-    /// The three grey levels of fine particles.
+    /// The three grey levels of fine particles [choice: darker than
+    /// Santos' desk dust (100, 150, 200): on a facade it is urban soot].
     pub film_greys: [u8; 3],
     /// Opacity weight of each grey (eq. 3).
     pub film_weights: [f32; 3],
@@ -378,18 +415,23 @@ pub struct DustParams {
     pub film_opacity: f32,
     /// Opacity of the granules layer.
     pub granule_opacity: f32,
+    /// How much dust stays on the open, rain-washed wall, 0..1, against 1
+    /// on ledge tops and in rain shelter.
+    pub open_wall: f32,
+    /// Depth of the dusty band on top of each ledge, metres.
+    pub ledge_top_m: f32,
 }
 
 impl Default for DustParams {
     fn default() -> Self {
         DustParams {
             enabled: true,
-            days: 365,
+            days: 3650,
             environment: DustEnvironment::LowActivity,
             film_segments: Vec::new(),
             mask_segments: Vec::new(),
-            ppi: 150.0,
-            film_greys: [100, 150, 200],
+            ppi: 0.0,
+            film_greys: [70, 90, 110],
             film_weights: [1.0, 0.8, 0.6],
             anp_max: 1.2,
             granule_color: [220, 220, 220],
@@ -401,6 +443,8 @@ impl Default for DustParams {
             theta_i: 45.0,
             film_opacity: 1.0,
             granule_opacity: 0.5,
+            open_wall: 0.25,
+            ledge_top_m: 0.06,
         }
     }
 }
@@ -709,6 +753,13 @@ pub fn builtin(name: &str) -> Result<Preset> {
             p.rain.k_a = 0.5;
             p.rain.r = 100.0;
             p.rain.initial_dirt = 5.0;
+            // The paper's uniform release and unfaded stains.
+            p.rain.drip_spacing_m = 0.0;
+            p.rain.end_share = 0.0;
+            p.rain.fall_m = 0.0;
+            p.moss.baseline = 1.0 / 40.0;
+            p.moss.mixed_species = false;
+            p.moss.open_wall = 1.0;
         }
         "light-rain" => p.rain.layers = 4,
         "heavy-rain" => {

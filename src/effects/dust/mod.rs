@@ -130,6 +130,34 @@ pub const BULK_FILM: u64 = 16;
 /// are counted but not drawn.
 pub const SATURATED_MASK: u64 = 8;
 
+/// Santos' texture resolution, pixels per inch: the film's `anp_max` and
+/// the granules' sizes are measured at it (Table 1).
+pub const REFERENCE_PPI: f64 = 150.0;
+
+/// Coarse elements narrower than this many pixels are not drawn: at facade
+/// scale a 2 mm hair is a fraction of a pixel, part of the film's tone.
+pub const MIN_GRANULE_PX: f32 = 1.5;
+
+/// `p` for a photo of `metres_per_pixel`: with `ppi = 0` the wall's own
+/// resolution (0.0254 m per inch over metres per pixel), and the film's
+/// saturation count and the granules' size scaled from Santos' 150 ppi
+/// [choice: a fine particle covers a fixed area of wall, so a pixel that
+/// holds (150 / ppi)^2 of Santos' pixels takes as many times the particles
+/// to be covered; a granule is a fixed width in millimetres].
+pub fn at_scale(p: &DustParams, metres_per_pixel: f32) -> DustParams {
+    if p.ppi > 0.0 {
+        return p.clone();
+    }
+    let ppi = 0.0254 / metres_per_pixel.max(1e-9) as f64;
+    let k = (ppi / REFERENCE_PPI) as f32;
+    DustParams {
+        ppi,
+        anp_max: p.anp_max / (k * k),
+        granule_size: p.granule_size * k,
+        ..p.clone()
+    }
+}
+
 /// Random-stream keys of bulk film draws: above every day number.
 const BULK_KEY: u64 = 1 << 32;
 
@@ -249,7 +277,11 @@ impl<'r> DustState<'r> {
         progress.update("dust", 0.5);
         let looks = granules::Looks::new(p);
         let mut mask_tasks = tasks(&self.mask_rate, self.area_in2, self.day + 1, day);
-        let skipped = saturate(&mut mask_tasks, SATURATED_MASK * wall);
+        let limit = match p.granule_size < MIN_GRANULE_PX {
+            true => 0,
+            false => SATURATED_MASK * wall,
+        };
+        let skipped = saturate(&mut mask_tasks, limit);
         let [mut arcs, mut clumps, mut hairs] =
             self.mask
                 .place(self.region, &mask_tasks, &looks, self.seed, progress)?;

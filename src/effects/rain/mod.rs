@@ -5,6 +5,7 @@
 //! moss grows from. [`stain`] turns deposits into layer coverage.
 
 pub mod droplets;
+pub mod fall;
 pub mod sources;
 pub mod stain;
 pub mod wall;
@@ -13,14 +14,14 @@ use rand::Rng as _;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::effects::patches;
+use crate::effects::{Effect, patches};
 use crate::error::{Error, Result};
 use crate::field::{ColumnMajor, RowMajor};
 use crate::preset::RainParams;
 use crate::progress::Progress;
 use crate::random::{self, Stream};
 use droplets::{Droplet, End, Laws, Runner};
-use sources::Source;
+use sources::{Release, Source, Warp};
 use wall::{Column, Wall};
 
 /// What the rain runs on: the wall's luminance and region on the grid.
@@ -32,6 +33,8 @@ pub struct RainInput<'a> {
     pub region: &'a RowMajor<bool>,
     /// Source polylines in grid coordinates.
     pub source_lines: Vec<Vec<(f32, f32)>>,
+    /// Where along the sources water leaves, grid pixels.
+    pub release: Release,
 }
 
 /// Numbers describing one rainfall.
@@ -99,6 +102,10 @@ pub fn droplet_count(p: &RainParams, width: usize) -> u32 {
     }
     ((p.droplets as f64 * width as f64 / p.reference_width as f64).round() as u32).max(1)
 }
+
+/// The rain's own stream (with [`Effect::Rain`]) for each source's drip
+/// points.
+const RELEASE: u16 = 1;
 
 /// Half a patch's width, in grid columns, for [`patches::run`].
 const BAND: usize = 64;
@@ -212,9 +219,18 @@ pub fn simulate(
         let padded: Vec<_> = line.iter().map(|&(x, y)| (x + 1.0, y + 1.0)).collect();
         sources.push(Source::line(padded));
     }
+    let warps = sources
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let mut rng = random::rng(seed, (Effect::Rain, RELEASE), i as u64, 0);
+            Warp::new(s.length(), &input.release, &mut rng)
+        })
+        .collect();
     let clouds = Clouds {
         total_len: sources.iter().map(Source::length).sum(),
         sources,
+        warps,
         p,
         seed,
     };
@@ -340,6 +356,8 @@ impl LayerStats {
 /// Where droplets come from: the sources and the draws that start them.
 struct Clouds<'a> {
     sources: Vec<Source>,
+    /// Each source's release points ([`Warp`]); `None` = uniform.
+    warps: Vec<Option<Warp>>,
     /// The sources' total length.
     total_len: f32,
     p: &'a RainParams,
@@ -373,7 +391,12 @@ impl Clouds<'_> {
             return None;
         }
         let (si, u) = sources::pick(&self.sources, start.0);
-        let (x, y) = self.sources[si].point(u);
+        let source = &self.sources[si];
+        let u = match &self.warps[si] {
+            Some(warp) => warp.at(u, source.length()),
+            None => u,
+        };
+        let (x, y) = source.point(u);
         // [choice] Chang makes deposition proportional to droplet mass: a
         // droplet washes dirt off its ledge in proportion to its water,
         // S_0 = ledge_dirt * m / m_max, so small droplets leave faint runs.

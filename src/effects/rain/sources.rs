@@ -1,4 +1,115 @@
-//! Where droplets start: the top edge of the region and user source lines.
+//! Where droplets start: the top edge of the region and user source lines,
+//! and where along them water leaves ([`Release`]).
+//!
+//! [choice, beyond Chang, who starts droplets uniformly along a source:]
+//! run-off concentrates (Verhoef; `how-facades-age.md`): a ledge collects
+//! water and releases it at a few points, the two ends of a sill and drip
+//! points along a long cornice, so a wall shows separate streaks, not an
+//! even comb. A source's release density is a mixture of Gaussians of
+//! width [`Release::width`] at its two ends (weight `end_share`) and at
+//! drip points about `spacing` apart (drawn from the seed), over a small
+//! uniform floor; Chang's start position u (eqs. 16-17 walk it between
+//! rainfalls) is mapped through the density's inverse CDF, so droplets
+//! that start near each other stay in the same streak.
+
+/// How a ledge releases its water, in grid pixels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Release {
+    /// Mean spacing of drip points along a ledge; 0 = uniform release
+    /// (Chang's own).
+    pub spacing: f32,
+    /// Standard deviation of a release point: a streak's width at its top.
+    pub width: f32,
+    /// Share of a source's water released at its two ends.
+    pub end_share: f32,
+}
+
+impl Release {
+    /// Chang's own: droplets start anywhere along a source.
+    pub const UNIFORM: Release = Release {
+        spacing: 0.0,
+        width: 1.0,
+        end_share: 0.0,
+    };
+}
+
+/// Share of the water released uniformly along a source (diffuse run-off).
+const FLOOR: f32 = 0.04;
+
+/// The inverse CDF of a source's release density, tabulated per grid pixel
+/// of its length: `at(u)` maps a uniform position in `0..len` to where the
+/// droplet leaves.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Warp {
+    /// Position (0..len) at each of `len + 1` evenly spaced CDF values.
+    inverse: Vec<f32>,
+}
+
+impl Warp {
+    /// The warp of a source `len` pixels long; `rng` draws its drip points.
+    pub fn new(len: f32, r: &Release, rng: &mut crate::random::Rng) -> Option<Warp> {
+        use rand::Rng as _;
+        if r.spacing <= 0.0 || len < 1.0 {
+            return None;
+        }
+        let n = len.ceil() as usize + 1;
+        // Release points (centre, weight).
+        let mut points = vec![(0.0, r.end_share / 2.0), (len, r.end_share / 2.0)];
+        let mut drips = Vec::new();
+        let mut x = r.spacing * rng.random_range(0.2..1.0);
+        while x < len - 0.2 * r.spacing {
+            drips.push((x, rng.random_range(0.3..1.0f32)));
+            x += r.spacing * rng.random_range(0.5..1.5);
+        }
+        let drip_total: f32 = drips.iter().map(|d| d.1).sum();
+        let drip_share = 1.0 - r.end_share.clamp(0.0, 1.0);
+        if drip_total > 0.0 {
+            points.extend(drips.iter().map(|&(c, w)| (c, w / drip_total * drip_share)));
+        } else {
+            // A ledge shorter than the spacing sheds everything at its ends.
+            points.iter_mut().for_each(|p| p.1 = 0.5);
+        }
+        let width = r.width.max(0.5);
+        let density: Vec<f64> = (0..n)
+            .map(|i| {
+                let u = i as f32;
+                let peaks: f32 = points
+                    .iter()
+                    .map(|&(c, w)| {
+                        let z = (u - c) / width;
+                        w * (-0.5 * z * z).exp() / (width * 2.506_628)
+                    })
+                    .sum();
+                (FLOOR / len + (1.0 - FLOOR) * peaks) as f64
+            })
+            .collect();
+        let mut cdf = Vec::with_capacity(n);
+        let mut total = 0.0;
+        for d in &density {
+            total += d;
+            cdf.push(total);
+        }
+        let inverse = (0..=n)
+            .map(|k| {
+                let target = total * k as f64 / n as f64;
+                let i = cdf.partition_point(|&c| c < target).min(n - 1);
+                let below = if i == 0 { 0.0 } else { cdf[i - 1] };
+                let t = ((target - below) / density[i].max(1e-12)).clamp(0.0, 1.0);
+                ((i as f64 - 0.5 + t) as f32).clamp(0.0, len)
+            })
+            .collect();
+        Some(Warp { inverse })
+    }
+
+    /// Where a droplet at uniform position `u` (0..len) leaves the source.
+    pub fn at(&self, u: f32, len: f32) -> f32 {
+        let n = self.inverse.len() - 1;
+        let g = (u / len.max(1e-6) * n as f32).clamp(0.0, n as f32);
+        let i = (g as usize).min(n - 1);
+        let t = g - i as f32;
+        self.inverse[i] + (self.inverse[i + 1] - self.inverse[i]) * t
+    }
+}
 
 /// One water source on the padded grid.
 #[derive(Debug, Clone)]

@@ -41,22 +41,24 @@ impl Coverage {
     }
 
     /// Coverage in 0..1 per grid pixel for one rainfall's `deposit`.
+    /// `blur` is the edge's blur radius in grid pixels.
     pub fn of(
         &mut self,
         deposit: &ColumnMajor<f32>,
         d_max: f32,
         p: &StainParams,
-    ) -> &RowMajor<f32> {
+        blur: f32,
+    ) -> &mut RowMajor<f32> {
         let strength = p.strength;
         let alpha = |d: f32| (strength * d / d_max).clamp(0.0, 1.0);
         blur_transposed(
             deposit,
-            p.softness,
+            blur,
             alpha,
             &mut self.columns,
             &mut self.rows,
         );
-        &self.rows
+        &mut self.rows
     }
 }
 
@@ -177,7 +179,7 @@ mod tests {
         };
         let mut cov = Coverage::new(4, 1);
         let deposit = ColumnMajor::new(4, 1, vec![0.0, 1.0, 2.0, 10.0]);
-        assert_eq!(cov.of(&deposit, 4.0, &p).data(), [0.0, 0.25, 0.5, 1.0]);
+        assert_eq!(cov.of(&deposit, 4.0, &p, 0.0).data(), [0.0, 0.25, 0.5, 1.0]);
     }
 
     #[test]
@@ -211,14 +213,13 @@ mod tests {
     #[test]
     fn softness_spreads_but_keeps_total_roughly() {
         let p = StainParams {
-            softness: 1.5,
             strength: 1.0,
             ..StainParams::default()
         };
         let mut d = ColumnMajor::filled(21, 21, 0.0);
         d.data_mut()[10 * 21 + 10] = 0.5;
         let mut cov = Coverage::new(21, 21);
-        let a = cov.of(&d, 1.0, &p).data();
+        let a = cov.of(&d, 1.0, &p, 1.5).data();
         assert!(a[10 * 21 + 11] > 0.0, "edge is soft");
         let total: f32 = a.iter().sum();
         assert!((total - 0.5).abs() < 0.02, "{total}");

@@ -31,6 +31,7 @@ fn dirt_is_conserved_between_droplets_and_wall() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        release: Release::UNIFORM,
     };
     // No fresh grime: all dirt comes off the ledges with the droplets.
     let p = RainParams {
@@ -58,6 +59,7 @@ fn droplets_start_on_the_source_line_and_end_lower() {
         luma: &luma,
         region: &region,
         source_lines: vec![line],
+        release: Release::UNIFORM,
     };
     let p = RainParams {
         top_edge: false,
@@ -103,6 +105,7 @@ fn heavier_droplets_run_further() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        release: Release::UNIFORM,
     };
     let mean_run = |mass_max: f32| {
         let p = RainParams {
@@ -137,6 +140,7 @@ fn cancel_stops_mid_layer() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        release: Release::UNIFORM,
     };
     let cancel = AtomicBool::new(true);
     let r = simulate(
@@ -157,6 +161,7 @@ fn deposits_raise_streak_channels_but_keep_the_wall_rough() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        release: Release::UNIFORM,
     };
     let p = RainParams {
         layers: 12,
@@ -183,6 +188,7 @@ fn the_same_rain_at_any_thread_count() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        release: Release::UNIFORM,
     };
     let p = RainParams {
         layers: 3,
@@ -219,6 +225,7 @@ fn an_in_range_preset_that_asks_too_much_is_refused_before_it_starts() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        release: Release::UNIFORM,
     };
     let p = RainParams {
         droplets: 100_000,
@@ -255,6 +262,7 @@ fn droplets_in_several_schedules_are_the_same_at_any_thread_count() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        release: Release::UNIFORM,
     };
     let p = RainParams {
         layers: 1,

@@ -1,0 +1,132 @@
+//! Where a wall stays wet, on the simulation grid: the places moss, algae
+//! and lichen grow and dust is left alone (`how-facades-age.md`, "Living
+//! growth" and "Near the ground"). Each map is 0..1 per grid cell.
+//!
+//! - the **splash zone**: the foot of a wall that stands on the ground
+//!   (the site's ground line), wettest at the bottom;
+//! - **ledge tops**: a band above each ledge's drip line (sill tops,
+//!   copings, cornice tops), where water stands;
+//! - **joints and cracks**: dark valleys of the photo's luminance;
+//! - **shelter**: the wall under a projecting ledge, shaded and never
+//!   washed (the site's rain shelter).
+
+use rayon::prelude::*;
+
+use super::Context;
+use crate::field::RowMajor;
+
+/// Width of the valleys taken for joints and cracks, metres (a mortar joint
+/// is about 1 cm).
+const JOINT_M: f32 = 0.015;
+
+/// A valley starts to count as a joint this much darker than its
+/// surroundings (as a share of their luminance): the grain of render or
+/// stone is not a joint.
+const JOINT_START: f32 = 0.1;
+
+/// ... and counts fully this much further down.
+const JOINT_DEPTH: f32 = 0.15;
+
+/// A map on the grid from a function of the photo point at each cell's
+/// centre.
+fn on_grid(ctx: &Context, f: impl Fn(f32, f32) -> f32 + Sync) -> RowMajor<f32> {
+    let (w, h) = (ctx.grid.width, ctx.grid.height);
+    let mut out = RowMajor::filled(w, h, 0.0);
+    out.data_mut()
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(gy, row)| {
+            for (gx, v) in row.iter_mut().enumerate() {
+                let (x, y) = ctx.grid.to_photo(gx as f32 + 0.5, gy as f32 + 0.5);
+                *v = f(x, y);
+            }
+        });
+    out
+}
+
+/// The splash zone: 1 at the foot of the wall, falling to 0 at `height_m`
+/// above the ground; 0 where the photo shows no ground under the wall.
+pub fn splash(ctx: &Context, height_m: f32) -> RowMajor<f32> {
+    let reach = ctx.photo_px(height_m).max(1.0);
+    on_grid(ctx, |x, y| {
+        let Some(g) = ctx.site.ground_at(x.max(0.0) as u32) else {
+            return 0.0;
+        };
+        let above = g - y;
+        if above < -reach * 0.1 || above > reach {
+            return 0.0;
+        }
+        1.0 - (above.max(0.0) / reach).powi(2)
+    })
+}
+
+/// Ledge tops: a band `depth_m` deep above each ledge's drip line.
+pub fn ledge_tops(ctx: &Context, depth_m: f32) -> RowMajor<f32> {
+    let depth = ctx.photo_px(depth_m).max(1.0);
+    let lines: Vec<&Vec<[f32; 2]>> = ctx.site.ledges.iter().map(|l| &l.polyline).collect();
+    on_grid(ctx, |x, y| {
+        lines
+            .iter()
+            .filter_map(|line| row_at(line, x))
+            .map(|row| {
+                let above = row - y;
+                if (0.0..=depth).contains(&above) {
+                    1.0
+                } else {
+                    0.0
+                }
+            })
+            .fold(0.0, f32::max)
+    })
+}
+
+/// The row of a polyline (left to right) at column `x`, if `x` is within it.
+fn row_at(line: &[[f32; 2]], x: f32) -> Option<f32> {
+    line.windows(2).find_map(|pair| {
+        let (a, b) = (pair[0], pair[1]);
+        let (lo, hi) = (a[0].min(b[0]), a[0].max(b[0]));
+        (x >= lo && x <= hi).then(|| {
+            let t = if hi > lo { (x - a[0]) / (b[0] - a[0]) } else { 0.0 };
+            a[1] + (b[1] - a[1]) * t
+        })
+    })
+}
+
+/// Joints and cracks: how much darker each cell is than its surroundings.
+pub fn joints(ctx: &Context) -> RowMajor<f32> {
+    let radius = (ctx.grid_px(JOINT_M) * 2.0).round().max(1.0) as usize;
+    let mean = super::moss::box_mean(ctx.luma, ctx.region, radius);
+    let values = ctx
+        .luma
+        .data()
+        .par_iter()
+        .zip(mean.data())
+        .map(|(&l, &m)| {
+            if m <= 0.0 {
+                return 0.0;
+            }
+            (((m - l) / m - JOINT_START) / JOINT_DEPTH).clamp(0.0, 1.0)
+        })
+        .collect();
+    RowMajor::new(ctx.grid.width, ctx.grid.height, values)
+}
+
+/// The rain shelter on the grid.
+pub fn shelter(ctx: &Context) -> RowMajor<f32> {
+    on_grid(ctx, |x, y| {
+        ctx.site
+            .shelter_at(x.max(0.0) as u32, y.max(0.0) as u32)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_polyline_row_is_found_only_within_it() {
+        let line = [[10.0, 50.0], [20.0, 60.0]];
+        assert_eq!(row_at(&line, 15.0), Some(55.0));
+        assert_eq!(row_at(&line, 25.0), None);
+    }
+}

@@ -1,0 +1,85 @@
+//! Growth and deposits bound to the wall's surface: a layer's colour is
+//! modulated by the photo's own luminance, so the wall's texture, joints
+//! and light show through the moss and the dust instead of disappearing
+//! under a flat colour (issue "looks like a photograph").
+//!
+//! [choice] A pixel's colour becomes `c * (L / L_wall)^0.7`, with L the photo's
+//! luminance there and L_wall the wall's mean luminance: the layer stays a
+//! normal-blended RGBA layer that any editor shows as it is, and what it
+//! paints carries the light and relief of the wall under it (a colony in a
+//! joint's shadow is darker; a sunlit one lighter).
+
+use image::RgbaImage;
+use rayon::prelude::*;
+
+use crate::field::RowMajor;
+use crate::photo::Photo;
+
+/// Most a pixel's colour is lightened: bright highlights do not bleach it.
+const MAX_GAIN: f32 = 1.25;
+
+/// How strongly the photo's light carries into the layer: the gain is
+/// (L / L_wall)^STRENGTH, so a colony keeps its own colour on a light
+/// mortar joint and still shows the relief.
+const STRENGTH: f32 = 0.7;
+
+/// Mean luminance over the wall cells of the grid (128 when there are none).
+pub fn wall_luma(luma: &RowMajor<f32>, region: &RowMajor<bool>) -> f32 {
+    let (sum, n) = luma
+        .data()
+        .iter()
+        .zip(region.data())
+        .filter(|(_, r)| **r)
+        .fold((0.0f64, 0u64), |(s, n), (l, _)| (s + *l as f64, n + 1));
+    if n == 0 {
+        128.0
+    } else {
+        (sum / n as f64).max(1.0) as f32
+    }
+}
+
+/// Multiplies each painted pixel of `layer` (alpha > 0) by the photo's
+/// luminance over `l_wall`.
+pub fn modulate(layer: &mut RgbaImage, photo: &Photo, l_wall: f32) {
+    let w = layer.width() as usize;
+    layer
+        .par_chunks_mut(w * 4)
+        .enumerate()
+        .for_each_init(
+            || vec![0.0f32; w],
+            |line, (y, row)| {
+                if row.chunks_exact(4).all(|px| px[3] == 0) {
+                    return;
+                }
+                photo.luma_row(y as u32, line);
+                for (px, l) in row.chunks_exact_mut(4).zip(line.iter()) {
+                    if px[3] == 0 {
+                        continue;
+                    }
+                    let gain = (l / l_wall).max(0.0).powf(STRENGTH).min(MAX_GAIN);
+                    for c in &mut px[..3] {
+                        *c = (*c as f32 * gain).round().clamp(0.0, 255.0) as u8;
+                    }
+                }
+            },
+        );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::{DynamicImage, GrayImage, Luma};
+
+    #[test]
+    fn the_wall_shows_through_and_bare_pixels_stay_bare() {
+        let photo = Photo::new(DynamicImage::ImageLuma8(GrayImage::from_fn(4, 1, |x, _| {
+            Luma([[50, 100, 200, 100][x as usize]])
+        })));
+        let mut layer = RgbaImage::from_fn(4, 1, |x, _| {
+            image::Rgba([100, 100, 100, if x == 3 { 0 } else { 255 }])
+        });
+        modulate(&mut layer, &photo, 100.0);
+        let r: Vec<u8> = layer.pixels().map(|p| p[0]).collect();
+        assert_eq!(r, [62, 100, 125, 100], "darker, same, capped lighter, untouched");
+    }
+}
