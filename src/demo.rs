@@ -131,7 +131,11 @@ pub fn facade(w: u32, h: u32) -> Demo {
         if y >= l.ground {
             // Paving slabs with dark joints.
             let joint = x % (w / 12).max(4) < 2 || (y - l.ground) % (h / 12).max(4) == 0;
-            let k = if joint { -0.35 } else { 0.25 * grain + 0.1 * mottle };
+            let k = if joint {
+                -0.35
+            } else {
+                0.25 * grain + 0.1 * mottle
+            };
             return shade([128.0, 124.0, 116.0], k);
         }
         if y >= l.cornice.0 && y < l.cornice.1 {

@@ -86,7 +86,11 @@ fn row_at(line: &[[f32; 2]], x: f32) -> Option<f32> {
         let (a, b) = (pair[0], pair[1]);
         let (lo, hi) = (a[0].min(b[0]), a[0].max(b[0]));
         (x >= lo && x <= hi).then(|| {
-            let t = if hi > lo { (x - a[0]) / (b[0] - a[0]) } else { 0.0 };
+            let t = if hi > lo {
+                (x - a[0]) / (b[0] - a[0])
+            } else {
+                0.0
+            };
             a[1] + (b[1] - a[1]) * t
         })
     })
@@ -114,8 +118,7 @@ pub fn joints(ctx: &Context) -> RowMajor<f32> {
 /// The rain shelter on the grid.
 pub fn shelter(ctx: &Context) -> RowMajor<f32> {
     on_grid(ctx, |x, y| {
-        ctx.site
-            .shelter_at(x.max(0.0) as u32, y.max(0.0) as u32)
+        ctx.site.shelter_at(x.max(0.0) as u32, y.max(0.0) as u32)
     })
 }
 

@@ -32,8 +32,8 @@ pub mod percentile;
 pub mod rain;
 pub mod region;
 pub mod roughness;
-pub mod surface;
 mod stages;
+pub mod surface;
 
 use std::collections::BTreeSet;
 use std::sync::Arc;

@@ -390,7 +390,11 @@ pub fn d_max<O: Order>(dirt: &Field<f32, O>, region: &Field<bool, O>, q: f32) ->
 
 /// Mean of `values` over the region cells within `radius` (a square
 /// window), per grid cell; 0 outside the region.
-pub(crate) fn box_mean(values: &RowMajor<f32>, region: &RowMajor<bool>, radius: usize) -> RowMajor<f32> {
+pub(crate) fn box_mean(
+    values: &RowMajor<f32>,
+    region: &RowMajor<bool>,
+    radius: usize,
+) -> RowMajor<f32> {
     let (w, h) = (values.width(), values.height());
     let (values, region) = (values.data(), region.data());
     // Separable running sums of value and of region membership.

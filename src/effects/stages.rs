@@ -8,8 +8,8 @@ use serde::Serialize;
 use super::moss::{self, MossInput, Wet};
 use super::rain::{self, RainInput, sources::Release};
 use super::{Context, Effect, Produced, Products, Stats, dust, habitat, surface};
-use crate::field::RowMajor;
 use crate::error::Result;
+use crate::field::RowMajor;
 use crate::preset::Preset;
 use crate::progress::Progress;
 use crate::stack::{BlendMode, Layer, LayerPixels};
@@ -87,7 +87,12 @@ pub(super) fn rain(
     for (i, rl) in out.layers.iter().enumerate() {
         progress.check()?;
         progress.update("stain", 0.87 + 0.13 * i as f32 / out.layers.len() as f32);
-        let wide = widened.of(&rl.deposit, d_max, &preset.stain, blur + 2.0 * release.width);
+        let wide = widened.of(
+            &rl.deposit,
+            d_max,
+            &preset.stain,
+            blur + 2.0 * release.width,
+        );
         let cover = coverage.of(&rl.deposit, d_max, &preset.stain, blur);
         rain::fall::widen(cover, wide, &fade);
         let alpha = grid.upsample(cover, ctx.mask, w, h);
@@ -278,6 +283,7 @@ fn settle_alpha(pixels: &mut [u8], channels: usize, settle: &image::GrayImage) {
         .zip(settle.as_raw().par_iter())
         .for_each(|(px, s)| {
             let a = &mut px[channels - 1];
-            *a = ((*a as u32 * *s as u32 + 127) / 255) as u8;
+            // Rounded down: a trace of dust on the washed wall is none.
+            *a = (*a as u32 * *s as u32 / 255) as u8;
         });
 }

@@ -16,12 +16,12 @@ use crate::field::RowMajor;
 use crate::photo::Photo;
 
 /// Most a pixel's colour is lightened: bright highlights do not bleach it.
-const MAX_GAIN: f32 = 1.25;
+const MAX_GAIN: f32 = 1.4;
 
 /// How strongly the photo's light carries into the layer: the gain is
 /// (L / L_wall)^STRENGTH, so a colony keeps its own colour on a light
 /// mortar joint and still shows the relief.
-const STRENGTH: f32 = 0.7;
+const STRENGTH: f32 = 1.0;
 
 /// Mean luminance over the wall cells of the grid (128 when there are none).
 pub fn wall_luma(luma: &RowMajor<f32>, region: &RowMajor<bool>) -> f32 {
@@ -42,27 +42,24 @@ pub fn wall_luma(luma: &RowMajor<f32>, region: &RowMajor<bool>) -> f32 {
 /// luminance over `l_wall`.
 pub fn modulate(layer: &mut RgbaImage, photo: &Photo, l_wall: f32) {
     let w = layer.width() as usize;
-    layer
-        .par_chunks_mut(w * 4)
-        .enumerate()
-        .for_each_init(
-            || vec![0.0f32; w],
-            |line, (y, row)| {
-                if row.chunks_exact(4).all(|px| px[3] == 0) {
-                    return;
+    layer.par_chunks_mut(w * 4).enumerate().for_each_init(
+        || vec![0.0f32; w],
+        |line, (y, row)| {
+            if row.chunks_exact(4).all(|px| px[3] == 0) {
+                return;
+            }
+            photo.luma_row(y as u32, line);
+            for (px, l) in row.chunks_exact_mut(4).zip(line.iter()) {
+                if px[3] == 0 {
+                    continue;
                 }
-                photo.luma_row(y as u32, line);
-                for (px, l) in row.chunks_exact_mut(4).zip(line.iter()) {
-                    if px[3] == 0 {
-                        continue;
-                    }
-                    let gain = (l / l_wall).max(0.0).powf(STRENGTH).min(MAX_GAIN);
-                    for c in &mut px[..3] {
-                        *c = (*c as f32 * gain).round().clamp(0.0, 255.0) as u8;
-                    }
+                let gain = (l / l_wall).max(0.0).powf(STRENGTH).min(MAX_GAIN);
+                for c in &mut px[..3] {
+                    *c = (*c as f32 * gain).round().clamp(0.0, 255.0) as u8;
                 }
-            },
-        );
+            }
+        },
+    );
 }
 
 #[cfg(test)]
@@ -72,14 +69,20 @@ mod tests {
 
     #[test]
     fn the_wall_shows_through_and_bare_pixels_stay_bare() {
-        let photo = Photo::new(DynamicImage::ImageLuma8(GrayImage::from_fn(4, 1, |x, _| {
-            Luma([[50, 100, 200, 100][x as usize]])
-        })));
+        let photo = Photo::new(DynamicImage::ImageLuma8(GrayImage::from_fn(
+            4,
+            1,
+            |x, _| Luma([[50, 100, 200, 100][x as usize]]),
+        )));
         let mut layer = RgbaImage::from_fn(4, 1, |x, _| {
             image::Rgba([100, 100, 100, if x == 3 { 0 } else { 255 }])
         });
         modulate(&mut layer, &photo, 100.0);
         let r: Vec<u8> = layer.pixels().map(|p| p[0]).collect();
-        assert_eq!(r, [62, 100, 125, 100], "darker, same, capped lighter, untouched");
+        assert_eq!(
+            r,
+            [62, 100, 125, 100],
+            "darker, same, capped lighter, untouched"
+        );
     }
 }

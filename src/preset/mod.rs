@@ -185,7 +185,7 @@ impl Default for RainParams {
             source_lines: Vec::new(),
             drip_spacing_m: 0.9,
             end_share: 0.5,
-            release_width_m: 0.025,
+            release_width_m: 0.06,
             fall_m: 1.5,
         }
     }
@@ -213,11 +213,11 @@ impl Default for StainParams {
     fn default() -> Self {
         StainParams {
             color: [86, 76, 62],
-            opacity: 0.5,
+            opacity: 0.25,
             strength: 0.6,
             percentile: 0.99,
             softness: 0.0,
-            blur_m: 0.01,
+            blur_m: 0.03,
         }
     }
 }
@@ -303,7 +303,7 @@ impl Default for MossParams {
             humidity: 0.5,
             color: MossColor::YellowGreen,
             color_jitter: 14.0,
-            opacity: 0.9,
+            opacity: 0.7,
             baseline: 0.0,
             colony_m: 0.05,
             splash_m: 0.4,
@@ -443,7 +443,7 @@ impl Default for DustParams {
             theta_i: 45.0,
             film_opacity: 1.0,
             granule_opacity: 0.5,
-            open_wall: 0.25,
+            open_wall: 0.04,
             ledge_top_m: 0.06,
         }
     }

@@ -104,7 +104,11 @@ fn row_at(line: &[(f32, f32)], x: f32) -> f32 {
     for pair in pts.windows(2) {
         let (a, b) = (pair[0], pair[1]);
         if x >= a.0 && x <= b.0 {
-            let t = if b.0 > a.0 { (x - a.0) / (b.0 - a.0) } else { 0.0 };
+            let t = if b.0 > a.0 {
+                (x - a.0) / (b.0 - a.0)
+            } else {
+                0.0
+            };
             return a.1 + (b.1 - a.1) * t;
         }
     }
@@ -128,7 +132,10 @@ mod tests {
 
     #[test]
     fn a_lower_source_restarts_the_fall() {
-        let lines = vec![vec![(0.0, 5.0), (10.0, 5.0)], vec![(0.0, 40.0), (10.0, 40.0)]];
+        let lines = vec![
+            vec![(0.0, 5.0), (10.0, 5.0)],
+            vec![(0.0, 40.0), (10.0, 40.0)],
+        ];
         let f = fade(10, 60, &lines, None, 10.0, 0.0);
         assert!(f.get(4, 35) < 0.01);
         assert!(f.get(4, 41) > 0.95);

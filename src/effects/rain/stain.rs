@@ -51,13 +51,7 @@ impl Coverage {
     ) -> &mut RowMajor<f32> {
         let strength = p.strength;
         let alpha = |d: f32| (strength * d / d_max).clamp(0.0, 1.0);
-        blur_transposed(
-            deposit,
-            blur,
-            alpha,
-            &mut self.columns,
-            &mut self.rows,
-        );
+        blur_transposed(deposit, blur, alpha, &mut self.columns, &mut self.rows);
         &mut self.rows
     }
 }

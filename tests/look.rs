@@ -1,0 +1,340 @@
+//! The look of a photograph (issue "looks like a photograph"): what no layer
+//! touches stays exact, the wall's texture shows through, streaks fall
+//! below their ledges, moss keeps to the wet places, and sizes follow the
+//! scene's metres per pixel.
+
+use grime::demo;
+use grime::photo::Photo;
+use grime::pipeline::{self, Outcome, Scene, Site};
+use grime::preset::Preset;
+use grime::progress::Progress;
+use grime::stack::Layer;
+use image::{DynamicImage, Rgb, RgbImage};
+
+/// The demo facade with its own region, ledges and site, aged by `preset`.
+fn facade(preset: &Preset) -> (Scene, Outcome, demo::Demo) {
+    let d = demo::facade(960, 720);
+    let mut p = preset.clone();
+    p.rain.source_lines = d.source_lines.clone();
+    p.rain.top_edge = false;
+    let scene = Scene::new(d.photo.clone(), d.region.clone())
+        .unwrap()
+        .with_site(d.site.clone())
+        .unwrap();
+    let out = pipeline::run(&scene, &p, &Progress::none()).unwrap();
+    (scene, out, d)
+}
+
+/// A layer's coverage at (x, y), 0..1, with its opacity.
+fn cover(l: &Layer, x: u32, y: u32) -> f32 {
+    if !l.visible {
+        return 0.0;
+    }
+    l.rgba(x, y)[3] as f32 / 255.0 * l.opacity
+}
+
+fn layers_named<'a>(out: &'a Outcome, prefix: &'a str) -> impl Iterator<Item = &'a Layer> + 'a {
+    out.stack
+        .layers
+        .iter()
+        .filter(move |l| l.name.starts_with(prefix))
+}
+
+#[test]
+fn untouched_pixels_keep_their_exact_value() {
+    let (scene, out, _) = facade(&Preset::default());
+    let aged = out.stack.composite().to_rgb8();
+    let photo = scene.photo.image().to_rgb8();
+    let (w, h) = scene.size();
+    let (mut untouched, mut region_untouched) = (0, 0);
+    let region = scene.region.as_deref().unwrap();
+    for y in 0..h {
+        for x in 0..w {
+            if out.stack.layers.iter().all(|l| l.rgba(x, y)[3] == 0) {
+                assert_eq!(aged.get_pixel(x, y), photo.get_pixel(x, y), "({x}, {y})");
+                untouched += 1;
+                region_untouched += usize::from(region.get_pixel(x, y)[0] > 0);
+            }
+        }
+    }
+    // Most of the wall is left alone: no global grade.
+    assert!(
+        region_untouched > (w * h / 4) as usize,
+        "{region_untouched} of {untouched}"
+    );
+}
+
+/// Luminance minus its Gaussian blur (sigma 5 px).
+fn high_pass(img: &RgbImage) -> Vec<f32> {
+    let luma = DynamicImage::ImageRgb8(img.clone()).to_luma32f();
+    let blurred = imageproc::filter::gaussian_blur_f32(&luma, 5.0);
+    luma.iter()
+        .zip(blurred.iter())
+        .map(|(a, b)| a - b)
+        .collect()
+}
+
+fn correlation(a: &[f32], b: &[f32]) -> f32 {
+    let n = a.len() as f32;
+    let (ma, mb) = (a.iter().sum::<f32>() / n, b.iter().sum::<f32>() / n);
+    let (mut ab, mut aa, mut bb) = (0.0, 0.0, 0.0);
+    for (x, y) in a.iter().zip(b) {
+        ab += (x - ma) * (y - mb);
+        aa += (x - ma) * (x - ma);
+        bb += (y - mb) * (y - mb);
+    }
+    ab / (aa * bb).sqrt().max(1e-12)
+}
+
+#[test]
+fn the_wall_texture_shows_through_every_effect() {
+    let (scene, out, _) = facade(&Preset::default());
+    let (w, h) = scene.size();
+    let hp_in = high_pass(&scene.photo.image().to_rgb8());
+    let hp_out = high_pass(&out.stack.composite().to_rgb8());
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    for y in 0..h {
+        for x in 0..w {
+            let total: f32 = out.stack.layers.iter().map(|l| cover(l, x, y)).sum();
+            if total > 0.1 {
+                let i = (y * w + x) as usize;
+                a.push(hp_in[i]);
+                b.push(hp_out[i]);
+            }
+        }
+    }
+    assert!(a.len() > 500, "only {} covered pixels", a.len());
+    let r = correlation(&a, &b);
+    assert!(
+        r >= 0.7,
+        "high-pass correlation {r} over {} pixels",
+        a.len()
+    );
+}
+
+#[test]
+fn streaks_fall_below_their_ledges() {
+    let preset = Preset::default();
+    let (scene, out, d) = facade(&preset);
+    let (w, h) = scene.size();
+    let zone = 2.0 * d.site.px(preset.rain.fall_m);
+    let reach = 3.0 * d.site.px(preset.rain.release_width_m) + 2.0;
+    let top = d
+        .source_lines
+        .iter()
+        .flat_map(|l| l.iter().map(|p| p[1]))
+        .fold(f32::MAX, f32::min);
+    let in_zone = |x: u32, y: u32| {
+        d.source_lines.iter().any(|l| {
+            let (x0, x1) = (l[0][0] - reach, l[l.len() - 1][0] + reach);
+            let below = y as f32 + 0.5 - l[0][1];
+            (x0..=x1).contains(&(x as f32)) && (-2.0..=zone).contains(&below)
+        })
+    };
+    let (mut inside, mut total, mut above) = (0.0f64, 0.0f64, 0.0f64);
+    for l in layers_named(&out, "rain") {
+        for y in 0..h {
+            for x in 0..w {
+                let c = cover(l, x, y) as f64;
+                total += c;
+                if in_zone(x, y) {
+                    inside += c;
+                }
+                if (y as f32) < top - 2.0 {
+                    above += c;
+                }
+            }
+        }
+    }
+    assert!(total > 0.0);
+    assert!(
+        inside / total >= 0.9,
+        "{:.3} of the ink in the fall zones",
+        inside / total
+    );
+    assert_eq!(above, 0.0, "ink above the highest ledge");
+}
+
+#[test]
+fn moss_keeps_to_the_foot_of_the_wall_and_the_ledge_tops() {
+    let (scene, out, d) = facade(&Preset::default());
+    let moss = layers_named(&out, "moss").next().unwrap();
+    let region = scene.region.as_deref().unwrap();
+    let (w, h) = scene.size();
+    let ground = d.site.ground[0];
+    let splash = d.site.px(0.4);
+    let top = d.site.px(0.15);
+    let on_ledge = |x: u32, y: u32| {
+        d.site.ledges.iter().any(|l| {
+            let p = &l.polyline;
+            (p[0][0]..=p[p.len() - 1][0]).contains(&(x as f32))
+                && (0.0..=top).contains(&(p[0][1] - y as f32))
+        })
+    };
+    let (mut wall, mut wall_n, mut wet, mut wet_n) = (0.0f64, 0u32, 0.0f64, 0u32);
+    for y in 0..h {
+        for x in 0..w {
+            let c = cover(moss, x, y) as f64;
+            if region.get_pixel(x, y)[0] == 0 {
+                assert_eq!(c, 0.0, "moss on glass or sky at ({x}, {y})");
+                continue;
+            }
+            wall += c;
+            wall_n += 1;
+            if (y as f32) >= ground - splash || on_ledge(x, y) {
+                wet += c;
+                wet_n += 1;
+            }
+        }
+    }
+    let (wall_mean, wet_mean) = (wall / wall_n as f64, wet / wet_n as f64);
+    assert!(wall_mean > 0.0);
+    assert!(
+        wet_mean >= 3.0 * wall_mean,
+        "wet places {wet_mean:.4} vs the wall's mean {wall_mean:.4}"
+    );
+}
+
+/// A plain wall, 400 x 300, at `metres_per_pixel`.
+fn plain(metres_per_pixel: f32) -> Scene {
+    let photo = RgbImage::from_pixel(400, 300, Rgb([180, 170, 150]));
+    Scene::new(Photo::new(DynamicImage::ImageRgb8(photo)), None)
+        .unwrap()
+        .with_site(Site {
+            metres_per_pixel,
+            ..Site::assumed(400)
+        })
+        .unwrap()
+}
+
+/// Mean over the rows of a streak's equivalent width (ink / peak ink).
+fn streak_width(metres_per_pixel: f32) -> f32 {
+    let mut p = Preset::default();
+    p.moss.enabled = false;
+    p.dust.enabled = false;
+    p.rain.top_edge = false;
+    p.rain.layers = 3;
+    p.rain.source_lines = vec![vec![[150.0, 40.0], [250.0, 40.0]]];
+    p.rain.drip_spacing_m = 100.0;
+    p.rain.end_share = 1.0;
+    // Weak enough that no stain saturates (a clamped peak reads wider).
+    p.stain.strength = 0.2;
+    let out = pipeline::run(&plain(metres_per_pixel), &p, &Progress::none()).unwrap();
+    let mut widths = Vec::new();
+    for y in 60..120 {
+        let row: Vec<f32> = (100..300)
+            .map(|x| layers_named(&out, "rain").map(|l| cover(l, x, y)).sum())
+            .collect();
+        let peak = row.iter().copied().fold(0.0, f32::max);
+        if peak > 0.01 {
+            widths.push(row.iter().sum::<f32>() / peak);
+        }
+    }
+    assert!(widths.len() > 20, "{} rows with ink", widths.len());
+    widths.iter().sum::<f32>() / widths.len() as f32
+}
+
+#[test]
+fn halving_metres_per_pixel_doubles_streak_widths() {
+    let (coarse, fine) = (streak_width(0.01), streak_width(0.005));
+    let ratio = fine / coarse;
+    assert!((1.6..=2.4).contains(&ratio), "{fine} / {coarse} = {ratio}");
+}
+
+/// The mean radius of full-grown colonies (no spreading, no size spread)
+/// drawn with a `baseline` of that many pixels: per colony, the farthest
+/// painted pixel within 1.5 baselines of its centre.
+fn colony_radius(baseline: f32) -> f32 {
+    use grime::effects::moss::{MossInput, grow};
+    use grime::effects::region::Region;
+    use grime::field::RowMajor;
+    use grime::grid::Grid;
+    let (w, h) = (400usize, 300usize);
+    let luma = RowMajor::from_fn(w, h, |_, y| if y % 2 == 0 { 100.0 } else { 202.0 });
+    let region = RowMajor::filled(w, h, true);
+    let input = MossInput {
+        luma: &luma,
+        region: &region,
+        wet: None,
+        habitat: None,
+        baseline,
+    };
+    let p = grime::preset::MossParams {
+        years: 2,
+        humidity: 1.0,
+        seed_rate: 0.05,
+        spread: 0.0,
+        size_spread: 0.0,
+        maturity: 0.0,
+        ..Default::default()
+    };
+    let grid = Grid::new(w as u32, h as u32, None, 0).unwrap();
+    let photo_region = Region::new(w as u32, h as u32, None).unwrap();
+    let moss = grow(&input, &grid, &photo_region, &p, 7, &Progress::none()).unwrap();
+    assert!(moss.colonies.len() >= 3, "{} colonies", moss.colonies.len());
+    let radii: Vec<f32> = moss
+        .colonies
+        .iter()
+        .map(|c| {
+            let reach = 1.5 * baseline;
+            moss.layer
+                .enumerate_pixels()
+                .filter(|(_, _, px)| px[3] > 0)
+                .map(|(x, y, _)| {
+                    ((x as f32 + 0.5 - c.x).powi(2) + (y as f32 + 0.5 - c.y).powi(2)).sqrt()
+                })
+                .filter(|&d| d <= reach)
+                .fold(0.0, f32::max)
+        })
+        .collect();
+    radii.iter().sum::<f32>() / radii.len() as f32
+}
+
+#[test]
+fn halving_metres_per_pixel_doubles_colony_widths() {
+    // The stage's baseline is moss.colony_m through the scale.
+    let colony_m = Preset::default().moss.colony_m;
+    let baseline = |mpp: f32| plain(mpp).site.px(colony_m);
+    let (b1, b2) = (baseline(0.005), baseline(0.0025));
+    assert!((b2 / b1 - 2.0).abs() < 1e-3, "baselines {b1} {b2}");
+    let (r1, r2) = (colony_radius(b1), colony_radius(b2));
+    let ratio = r2 / r1;
+    assert!(
+        (1.6..=2.4).contains(&ratio),
+        "colony radius {r1} -> {r2}: {ratio}x"
+    );
+}
+
+#[test]
+fn no_hair_or_arc_at_facade_scale() {
+    let granules = |metres_per_pixel: f32| {
+        let mut p = Preset::default();
+        p.rain.layers = 0;
+        p.moss.enabled = false;
+        p.dust.open_wall = 1.0;
+        let out = pipeline::run(&plain(metres_per_pixel), &p, &Progress::none()).unwrap();
+        let l = layers_named(&out, "dust granules").next().unwrap();
+        (0..300)
+            .flat_map(|y| (0..400).map(move |x| (x, y)))
+            .filter(|&(x, y)| l.rgba(x, y)[3] > 0)
+            .count()
+    };
+    assert_eq!(granules(0.005), 0, "5 mm per pixel");
+    assert_eq!(granules(0.02), 0, "2 cm per pixel");
+    assert!(
+        granules(0.0002) > 0,
+        "a close-up at 0.2 mm per pixel shows them"
+    );
+}
+
+#[test]
+fn the_demo_site_knows_its_scale_and_ground() {
+    let d = demo::facade(960, 720);
+    let storey = d.site.px(3.1);
+    assert!((storey - 288.0).abs() < 1.0, "{storey}");
+    assert!(d.site.ground_at(10).is_some());
+    let region = d.region.unwrap();
+    let g = d.site.ground[10] as u32;
+    assert_eq!(region.get_pixel(10, g)[0], 0, "the pavement is not wall");
+    assert_eq!(region.get_pixel(10, g - 1)[0], 255);
+}
