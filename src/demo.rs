@@ -130,7 +130,7 @@ pub fn facade(w: u32, h: u32) -> Demo {
             |base: [f32; 3], k: f32| Rgb(base.map(|c| (c * (1.0 + k)).clamp(0.0, 255.0) as u8));
         if y >= l.ground {
             // Paving slabs with dark joints.
-            let joint = x % (w / 12).max(4) < 2 || (y - l.ground) % (h / 12).max(4) == 0;
+            let joint = x % (w / 12).max(4) < 2 || (y - l.ground).is_multiple_of((h / 12).max(4));
             let k = if joint {
                 -0.35
             } else {

@@ -463,6 +463,11 @@ mod tests {
         preset.rain.top_edge = false;
         preset.rain.layers = 1;
         preset.stain.strength = 3.0;
+        // The geometry alone: water leaves anywhere along the ledge and
+        // its streaks do not fade.
+        preset.rain.drip_spacing_m = 0.0;
+        preset.rain.end_share = 0.0;
+        preset.rain.fall_m = 0.0;
         let out = in_plane(&scene, quad, &preset);
         let LayerPixels::Tint { alpha, .. } = &out.stack.layers[0].pixels else {
             panic!("tint")

@@ -11,7 +11,12 @@ fn facade(w: u32, h: u32) -> (Scene, Preset) {
     let demo = grime::demo::facade(w, h);
     let mut preset = Preset::default();
     preset.rain.source_lines = demo.source_lines;
-    (Scene::new(demo.photo, demo.region).unwrap(), preset)
+    preset.rain.top_edge = false;
+    let scene = Scene::new(demo.photo, demo.region)
+        .unwrap()
+        .with_site(demo.site)
+        .unwrap();
+    (scene, preset)
 }
 
 fn composite(scene: &Scene, preset: &Preset) -> DynamicImage {

@@ -15,9 +15,24 @@ use grime::stack::{Layer, LayerPixels};
 use grime::{demo, random};
 use rand::Rng as _;
 
+/// The papers' own models, as these tests check them: Santos' dust at its
+/// 150 ppi over the whole wall, Chang's moss (eq. 18 alone, baseline 1/40
+/// of the wall) and uniform, unfaded rain.
+fn papers() -> Preset {
+    let mut p = Preset::default();
+    p.dust.ppi = 150.0;
+    p.dust.open_wall = 1.0;
+    p.moss.baseline = 1.0 / 40.0;
+    p.moss.open_wall = 1.0;
+    p.rain.drip_spacing_m = 0.0;
+    p.rain.end_share = 0.0;
+    p.rain.fall_m = 0.0;
+    p
+}
+
 fn facade(w: u32, h: u32) -> (Scene, Preset) {
     let d = demo::facade(w, h);
-    let mut p = Preset::default();
+    let mut p = papers();
     p.rain.source_lines = d.source_lines;
     p.rain.layers = 3;
     (Scene::new(d.photo, d.region).unwrap(), p)
@@ -96,7 +111,7 @@ fn film_holds_exactly_eq_1_particles_after_t_days() {
 #[test]
 fn a_time_sequence_is_incremental() {
     let region = Region::new(200, 150, None).unwrap();
-    let mut p = Preset::default().dust;
+    let mut p = papers().dust;
     p.environment = DustEnvironment::HighActivity;
     let mut stepped = DustState::new(&region, &p, 4).unwrap();
     stepped.advance_to(100, &p, &Progress::none()).unwrap();
@@ -169,7 +184,7 @@ fn hairs_are_8_connected_curves() {
     }
     // The same holds in a rendered mask of hairs only.
     let region = Region::new(120, 90, None).unwrap();
-    let mut p = Preset::default().dust;
+    let mut p = papers().dust;
     (p.arc_share, p.clump_share, p.hair_share) = (0.0, 0.0, 1.0);
     p.environment = DustEnvironment::Custom;
     p.film_segments = vec![grime::preset::Segment::new(0, 0.0, 0.0)];
@@ -200,7 +215,7 @@ fn plain_wall(w: u32, h: u32) -> (Scene, Preset) {
         None,
     )
     .unwrap();
-    let mut p = Preset::default();
+    let mut p = papers();
     p.rain.layers = 6;
     // No fresh grime: water and dirt come from the rain alone, so they vary.
     p.rain.initial_dirt = 0.0;

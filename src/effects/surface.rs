@@ -3,7 +3,7 @@
 //! and light show through the moss and the dust instead of disappearing
 //! under a flat colour (issue "looks like a photograph").
 //!
-//! [choice] A pixel's colour becomes `c * (L / L_wall)^0.7`, with L the photo's
+//! [choice] A pixel's colour becomes `c * L / L_wall` (at most 1.4 c), with L the photo's
 //! luminance there and L_wall the wall's mean luminance: the layer stays a
 //! normal-blended RGBA layer that any editor shows as it is, and what it
 //! paints carries the light and relief of the wall under it (a colony in a
@@ -17,11 +17,6 @@ use crate::photo::Photo;
 
 /// Most a pixel's colour is lightened: bright highlights do not bleach it.
 const MAX_GAIN: f32 = 1.4;
-
-/// How strongly the photo's light carries into the layer: the gain is
-/// (L / L_wall)^STRENGTH, so a colony keeps its own colour on a light
-/// mortar joint and still shows the relief.
-const STRENGTH: f32 = 1.0;
 
 /// Mean luminance over the wall cells of the grid (128 when there are none).
 pub fn wall_luma(luma: &RowMajor<f32>, region: &RowMajor<bool>) -> f32 {
@@ -53,7 +48,7 @@ pub fn modulate(layer: &mut RgbaImage, photo: &Photo, l_wall: f32) {
                 if px[3] == 0 {
                     continue;
                 }
-                let gain = (l / l_wall).max(0.0).powf(STRENGTH).min(MAX_GAIN);
+                let gain = (l / l_wall).min(MAX_GAIN);
                 for c in &mut px[..3] {
                     *c = (*c as f32 * gain).round().clamp(0.0, 255.0) as u8;
                 }
@@ -81,7 +76,7 @@ mod tests {
         let r: Vec<u8> = layer.pixels().map(|p| p[0]).collect();
         assert_eq!(
             r,
-            [62, 100, 125, 100],
+            [50, 100, 140, 100],
             "darker, same, capped lighter, untouched"
         );
     }

@@ -414,8 +414,9 @@ pub fn blend_key(blend: BlendMode) -> &'static [u8; 4] {
 }
 
 /// Layer opacity as the PSD opacity byte (0 = transparent, 255 = opaque).
+/// Computed in f64: in f32, 0.7 * 255 rounds up to exactly 178.5.
 pub fn opacity_byte(opacity: f32) -> u8 {
-    (opacity.clamp(0.0, 1.0) * 255.0).round() as u8
+    (opacity.clamp(0.0, 1.0) as f64 * 255.0).round() as u8
 }
 
 /// Rows per parallel task.

@@ -392,6 +392,9 @@ mod tests {
         let (scene, mut p) = small();
         p.rain.layers = 0;
         p.moss.enabled = false;
+        // Dust at Santos' own resolution, on the whole wall.
+        p.dust.ppi = 150.0;
+        p.dust.open_wall = 1.0;
         let (w, h) = scene.size();
         // Every normal facing down: the dust collects less (shade.rs).
         let down = image::RgbImage::from_pixel(w, h, image::Rgb([128, 0, 128]));
