@@ -57,7 +57,7 @@ pub trait Space<P: Particle> {
 /// [`crate::Error::Cancelled`] when the progress's cancel flag is set.
 pub fn run<P: Particle, S: Space<P>>(
     space: &mut S,
-    mut particles: Vec<P>,
+    particles: Vec<P>,
     laws: &P::Laws,
     band: usize,
     progress: &Progress,
@@ -66,15 +66,14 @@ pub fn run<P: Particle, S: Space<P>>(
     let cols = space.columns();
     let mut done = Vec::with_capacity(particles.len());
     let mut shifted = false;
-    while !particles.is_empty() {
+    let mut queues = empty_queues(cols, band, shifted);
+    for p in particles {
+        queues[patch_of(p.column().min(cols - 1), band, shifted)].push(p);
+    }
+    while queues.iter().any(|q| !q.is_empty()) {
         progress.check()?;
-        let bounds = bounds(cols, band, shifted);
-        let mut queues: Vec<Vec<P>> = (1..bounds.len()).map(|_| Vec::new()).collect();
-        for p in particles.drain(..) {
-            queues[patch_of(p.column().min(cols - 1), band, shifted)].push(p);
-        }
         let lanes: Vec<Lane<P>> = space
-            .patches(&bounds)
+            .patches(&bounds(cols, band, shifted))
             .into_iter()
             .zip(queues)
             .map(|(patch, queue)| Lane {
@@ -91,20 +90,32 @@ pub fn run<P: Particle, S: Space<P>>(
                 Ok(lanes.into_iter().flat_map(|l| l.queue).collect())
             })
             .collect();
+        // Parked particles queue on the shifted patches, each queue in
+        // index order (sorted queue by queue: cheaper than sorting all).
+        shifted = !shifted;
+        queues = empty_queues(cols, band, shifted);
         for queue in ran {
             for p in queue? {
                 if p.ended() {
                     done.push(p);
                 } else {
-                    particles.push(p);
+                    queues[patch_of(p.column().min(cols - 1), band, shifted)].push(p);
                 }
             }
         }
-        particles.sort_by_key(P::index);
-        shifted = !shifted;
+        queues
+            .par_iter_mut()
+            .for_each(|queue| queue.sort_by_key(P::index));
     }
-    done.sort_by_key(P::index);
+    done.par_sort_by_key(P::index);
     Ok(done)
+}
+
+/// An empty queue per patch.
+fn empty_queues<P>(cols: usize, band: usize, shifted: bool) -> Vec<Vec<P>> {
+    (1..bounds(cols, band, shifted).len())
+        .map(|_| Vec::new())
+        .collect()
 }
 
 /// Patches one thread runs at once, a step of each in turn: their particles

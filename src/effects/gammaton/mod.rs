@@ -23,6 +23,7 @@ pub mod particle;
 pub mod rules;
 
 use rand::Rng as _;
+use rayon::prelude::*;
 use serde::Serialize;
 
 use self::particle::{Fate, Gammaton, Laws, MAX_RADIUS, Motion, World};
@@ -98,20 +99,16 @@ pub fn simulate(
 ) -> Result<Outcome> {
     let (w, h) = (luma.width(), luma.height());
     let n = p.substances.len().min(MAX_SUBSTANCES);
-    let col = |f: &dyn Fn(usize, usize) -> f32| -> Vec<f32> {
-        (0..w * h).map(|i| f(i / h, i % h)).collect()
+    let col = |f: &(dyn Fn(usize, usize) -> f32 + Sync)| -> Vec<f32> {
+        (0..w * h).into_par_iter().map(|i| f(i / h, i % h)).collect()
     };
-    let mut world = World {
-        width: w,
-        rows: h,
-        maps: p
-            .substances
-            .iter()
-            .map(|s| col(&|x, y| if region.get(x, y) { s.initial } else { 0.0 }))
-            .collect(),
-        region: (0..w * h).map(|i| region.get(i / h, i % h)).collect(),
-        luma: col(&|x, y| luma.get(x, y)),
-    };
+    let maps = p
+        .substances
+        .iter()
+        .map(|s| col(&|x, y| if region.get(x, y) { s.initial } else { 0.0 }))
+        .collect();
+    let wall = (0..w * h).map(|i| region.get(i / h, i % h)).collect();
+    let mut world = World::new(w, h, maps, wall, &col(&|x, y| luma.get(x, y)));
     let emitters = Emitters::new(&world, p, lines, seed)?;
     let mut laws = Laws {
         substances: n,
@@ -155,7 +152,9 @@ pub fn simulate(
     for it in 0..p.iterations {
         for start in (0..count).step_by(BATCH) {
             progress.update("gamma-tons", done as f32 / batches as f32);
+            // Each from its own stream: emitted side by side, in order.
             let tons: Vec<Gammaton> = (start..(start + BATCH).min(count))
+                .into_par_iter()
                 .map(|k| emitters.emit(p, seed, it, k))
                 .collect();
             for t in &tons {
@@ -211,6 +210,8 @@ struct Emitters {
     /// Per source: its fixed spots (fractions along its lines), if any.
     spots: Vec<Vec<f32>>,
     rows: usize,
+    /// Pixels on the grid.
+    pixels: usize,
 }
 
 impl Emitters {
@@ -278,6 +279,7 @@ impl Emitters {
             lines,
             spots,
             rows,
+            pixels: world.region.len(),
         })
     }
 
@@ -300,7 +302,13 @@ impl Emitters {
         let (pos, vel, motion, left) = match source.kind {
             // Rain meets the wall anywhere: the first contact is there.
             SourceKind::Sky => {
-                let at = self.wall[r.random_range(0..self.wall.len())] as usize;
+                let i = r.random_range(0..self.wall.len());
+                // A whole-grid wall lists every pixel: skip the look-up
+                // (a cache miss per γ-ton on a large grid).
+                let at = match self.wall.len() == self.pixels {
+                    true => i,
+                    false => self.wall[i] as usize,
+                };
                 let (x, y) = (at / self.rows, at % self.rows);
                 (
                     (x as f32 + jitter(&mut r), y as f32 + jitter(&mut r)),

@@ -222,3 +222,22 @@ fn stops_interpolate_and_clamp() {
     assert!((c[0] - 100.0).abs() < 1e-3 && (c[1] - 50.0).abs() < 1e-3 && (a - 0.5).abs() < 1e-6);
     assert_eq!(rules::sample(&stops, 1.0), ([200.0, 100.0, 0.0], 1.0));
 }
+
+#[test]
+fn a_line_source_off_the_grid_does_not_panic() {
+    // Points above and below the grid: the γ-tons start off it and leave.
+    let mut p = params(true);
+    p.p_flow = 0.9;
+    p.p_straight = 0.0;
+    p.p_parabolic = 0.0;
+    p.sources = vec![GammaSource {
+        kind: SourceKind::Line,
+        share: 1.0,
+        points: vec![[20.0, -40.0], [180.0, -30.0], [150.0, 400.0]],
+        spots: 0,
+        carries: vec![1.0],
+    }];
+    let out = run(&p);
+    assert_eq!(out.stats.emitted, 3000);
+    assert_conserved(&out);
+}
