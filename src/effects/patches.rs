@@ -82,20 +82,20 @@ pub fn run<P: Particle, S: Space<P>>(
                 next: 0,
             })
             .collect();
-        let ran: Vec<Result<Vec<P>>> = lanes
+        let ran: Vec<Result<Vec<Vec<P>>>> = lanes
             .into_par_iter()
             .chunks(LANES)
             .map(|mut lanes| {
                 interleave(&mut lanes, laws, progress)?;
-                Ok(lanes.into_iter().flat_map(|l| l.queue).collect())
+                Ok(lanes.into_iter().map(|l| l.queue).collect())
             })
             .collect();
         // Parked particles queue on the shifted patches, each queue in
         // index order (sorted queue by queue: cheaper than sorting all).
         shifted = !shifted;
         queues = empty_queues(cols, band, shifted);
-        for queue in ran {
-            for p in queue? {
+        for lanes in ran {
+            for p in lanes?.into_iter().flatten() {
                 if p.ended() {
                     done.push(p);
                 } else {
@@ -107,8 +107,21 @@ pub fn run<P: Particle, S: Space<P>>(
             .par_iter_mut()
             .for_each(|queue| queue.sort_by_key(P::index));
     }
-    done.par_sort_by_key(P::index);
-    Ok(done)
+    Ok(in_index_order(done))
+}
+
+/// `particles` sorted by index, stably: their keys are sorted, then each
+/// particle is moved once to its place (cheaper than a sort that moves
+/// whole particles several times).
+fn in_index_order<P: Particle>(particles: Vec<P>) -> Vec<P> {
+    let mut keys: Vec<(usize, usize)> = particles
+        .iter()
+        .enumerate()
+        .map(|(at, p)| (p.index(), at))
+        .collect();
+    keys.sort_unstable();
+    let mut slots: Vec<Option<P>> = particles.into_iter().map(Some).collect();
+    keys.iter().filter_map(|&(_, at)| slots[at].take()).collect()
 }
 
 /// An empty queue per patch.
