@@ -121,7 +121,9 @@ fn in_index_order<P: Particle>(particles: Vec<P>) -> Vec<P> {
         .collect();
     keys.sort_unstable();
     let mut slots: Vec<Option<P>> = particles.into_iter().map(Some).collect();
-    keys.iter().filter_map(|&(_, at)| slots[at].take()).collect()
+    keys.iter()
+        .filter_map(|&(_, at)| slots[at].take())
+        .collect()
 }
 
 /// An empty queue per patch.

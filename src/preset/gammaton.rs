@@ -75,6 +75,7 @@ impl Default for GammatonParams {
                 share: 1.0,
                 points: Vec::new(),
                 spots: 0,
+                mask: String::new(),
                 carries: vec![1.0],
             }],
             substances: vec![Substance {
@@ -103,6 +104,9 @@ pub enum SourceKind {
     Ground,
     /// A point or polyline (a rusty fixing, a railing), photo pixels.
     Line,
+    /// A painted mask: a greyscale image the photo's size, white = emit
+    /// (grey: proportionally fewer); first contact where it is painted.
+    Mask,
 }
 
 /// One source of γ-tons.
@@ -122,6 +126,10 @@ pub struct GammaSource {
     /// bracket), drawn from the seed; 0 = anywhere along it.
     #[serde(default)]
     pub spots: u32,
+    /// For `mask`: the path of the mask image (relative to the working
+    /// folder), the photo's size.
+    #[serde(default)]
+    pub mask: String,
     /// What each γ-ton starts with, per substance in `substances` order.
     #[serde(default)]
     pub carries: Vec<f32>,
@@ -275,6 +283,13 @@ impl GammatonParams {
                     "one amount >= 0 per substance, at most one per substance",
                 ));
             }
+            if (s.kind == SourceKind::Mask) == s.mask.is_empty() {
+                return Err(bad(
+                    field("mask"),
+                    format!("{:?}", s.mask),
+                    "the path of a greyscale image for kind = \"mask\" (white = emit), \"\" for other kinds",
+                ));
+            }
             if s.points.iter().flatten().any(|c| !c.is_finite()) {
                 return Err(bad(
                     field("points"),
@@ -320,6 +335,7 @@ pub fn builtin(name: &str) -> GammatonParams {
         share: 1.0,
         points: Vec::new(),
         spots: 0,
+        mask: String::new(),
         carries,
     };
     let fade = |color: [u8; 3], opacity: f32| {
