@@ -382,16 +382,16 @@ pub fn builtin(name: &str) -> GammatonParams {
         // all on settling).
         "salt-bloom" => GammatonParams {
             enabled: true,
-            particles: 150_000,
+            particles: 400_000,
             max_depth: 10,
             p_straight: 0.75,
             p_parabolic: 0.0,
             p_flow: 0.05,
             d_straight: 0.12,
             d_flow: 0.0,
-            hop: 10.0,
+            hop: 14.0,
             consistent: false,
-            radius: 1.0,
+            radius: 2.0,
             sources: vec![GammaSource {
                 kind: SourceKind::Ground,
                 ..source(SourceKind::Ground, vec![1.0, 0.0])
@@ -410,7 +410,7 @@ pub fn builtin(name: &str) -> GammatonParams {
                     absorb: 0.3,
                     deposit: 1.0,
                     initial: 0.5,
-                    scale: 0.8,
+                    scale: 0.3,
                     stops: vec![
                         Stop::new(0.0, [236, 234, 226], 0.0),
                         Stop::new(0.3, [236, 234, 226], 0.25),
@@ -435,14 +435,14 @@ pub fn builtin(name: &str) -> GammatonParams {
             p_straight: 0.3,
             p_parabolic: 0.5,
             p_flow: 0.1,
-            hop: 12.0,
+            hop: 18.0,
             sources: vec![source(SourceKind::Ground, vec![1.0])],
             substances: vec![Substance {
                 name: "splash dirt".into(),
                 absorb: 0.0,
                 deposit: 0.3,
                 initial: 0.0,
-                scale: 0.6,
+                scale: 2.0,
                 stops: fade([72, 58, 44], 0.65),
             }],
             ..d

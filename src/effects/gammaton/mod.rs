@@ -357,11 +357,13 @@ impl Emitters {
                     0.0,
                 )
             }
-            // Splash: thrown up from the foot of the wall.
+            // Splash: thrown up from the foot of the wall, most of it not
+            // far [choice: heights exponential with mean `hop`, at most 4
+            // hops, so the foot gets the most].
             SourceKind::Ground => {
                 let (x, y) = self.feet[r.random_range(0..self.feet.len())];
                 let a = (jitter(&mut r) * 2.0 - 1.0) * 0.5;
-                let up = p.hop * (0.3 + jitter(&mut r));
+                let up = (-p.hop * (1.0 - jitter(&mut r)).ln()).min(4.0 * p.hop);
                 (
                     (x as f32 + jitter(&mut r), y as f32 + 0.5),
                     (a.sin(), -a.cos()),
