@@ -103,12 +103,25 @@ pub fn run<P: Particle, S: Space<P>>(
                 }
             }
         }
-        queues
-            .par_iter_mut()
-            .for_each(|queue| queue.sort_by_key(P::index));
+        let parked: usize = queues.iter().map(Vec::len).sum();
+        let sort = |queue: &mut Vec<P>| queue.sort_by_key(P::index);
+        match parked >= MANY {
+            true => queues.par_iter_mut().for_each(sort),
+            false => queues.iter_mut().for_each(sort),
+        }
     }
-    Ok(in_index_order(done))
+    match done.len() >= MANY {
+        true => Ok(in_index_order(done)),
+        false => {
+            done.sort_by_key(P::index);
+            Ok(done)
+        }
+    }
 }
+
+/// Particles worth the set-up of sorting on every core, or by keys: below
+/// this, a plain sort is faster (the rain's small batches).
+const MANY: usize = 4096;
 
 /// `particles` sorted by index, stably: their keys are sorted, then each
 /// particle is moved once to its place (cheaper than a sort that moves
