@@ -20,7 +20,9 @@ fn million(c: &mut Criterion) {
     let mut group = c.benchmark_group("gammaton");
     group.sample_size(10);
     group.bench_function("1M gamma-tons, 1024x1024, default motion", |b| {
-        b.iter(|| gammaton::simulate(&luma, &region, &[], &p, 1, &Progress::none()).expect("run"))
+        b.iter(|| {
+            gammaton::simulate(&luma, &region, &[], &[], &p, 1, &Progress::none()).expect("run")
+        })
     });
     group.finish();
 }

@@ -57,7 +57,7 @@ pub trait Space<P: Particle> {
 /// [`crate::Error::Cancelled`] when the progress's cancel flag is set.
 pub fn run<P: Particle, S: Space<P>>(
     space: &mut S,
-    mut particles: Vec<P>,
+    particles: Vec<P>,
     laws: &P::Laws,
     band: usize,
     progress: &Progress,
@@ -66,15 +66,14 @@ pub fn run<P: Particle, S: Space<P>>(
     let cols = space.columns();
     let mut done = Vec::with_capacity(particles.len());
     let mut shifted = false;
-    while !particles.is_empty() {
+    let mut queues = empty_queues(cols, band, shifted);
+    for p in particles {
+        queues[patch_of(p.column().min(cols - 1), band, shifted)].push(p);
+    }
+    while queues.iter().any(|q| !q.is_empty()) {
         progress.check()?;
-        let bounds = bounds(cols, band, shifted);
-        let mut queues: Vec<Vec<P>> = (1..bounds.len()).map(|_| Vec::new()).collect();
-        for p in particles.drain(..) {
-            queues[patch_of(p.column().min(cols - 1), band, shifted)].push(p);
-        }
         let lanes: Vec<Lane<P>> = space
-            .patches(&bounds)
+            .patches(&bounds(cols, band, shifted))
             .into_iter()
             .zip(queues)
             .map(|(patch, queue)| Lane {
@@ -83,28 +82,68 @@ pub fn run<P: Particle, S: Space<P>>(
                 next: 0,
             })
             .collect();
-        let ran: Vec<Result<Vec<P>>> = lanes
+        let ran: Vec<Result<Vec<Vec<P>>>> = lanes
             .into_par_iter()
             .chunks(LANES)
             .map(|mut lanes| {
                 interleave(&mut lanes, laws, progress)?;
-                Ok(lanes.into_iter().flat_map(|l| l.queue).collect())
+                Ok(lanes.into_iter().map(|l| l.queue).collect())
             })
             .collect();
-        for queue in ran {
-            for p in queue? {
+        // Parked particles queue on the shifted patches, each queue in
+        // index order (sorted queue by queue: cheaper than sorting all).
+        shifted = !shifted;
+        queues = empty_queues(cols, band, shifted);
+        for lanes in ran {
+            for p in lanes?.into_iter().flatten() {
                 if p.ended() {
                     done.push(p);
                 } else {
-                    particles.push(p);
+                    queues[patch_of(p.column().min(cols - 1), band, shifted)].push(p);
                 }
             }
         }
-        particles.sort_by_key(P::index);
-        shifted = !shifted;
+        let parked: usize = queues.iter().map(Vec::len).sum();
+        let sort = |queue: &mut Vec<P>| queue.sort_by_key(P::index);
+        match parked >= MANY {
+            true => queues.par_iter_mut().for_each(sort),
+            false => queues.iter_mut().for_each(sort),
+        }
     }
-    done.sort_by_key(P::index);
-    Ok(done)
+    match done.len() >= MANY {
+        true => Ok(in_index_order(done)),
+        false => {
+            done.sort_by_key(P::index);
+            Ok(done)
+        }
+    }
+}
+
+/// Particles worth the set-up of sorting on every core, or by keys: below
+/// this, a plain sort is faster (the rain's small batches).
+const MANY: usize = 4096;
+
+/// `particles` sorted by index, stably: their keys are sorted, then each
+/// particle is moved once to its place (cheaper than a sort that moves
+/// whole particles several times).
+fn in_index_order<P: Particle>(particles: Vec<P>) -> Vec<P> {
+    let mut keys: Vec<(usize, usize)> = particles
+        .iter()
+        .enumerate()
+        .map(|(at, p)| (p.index(), at))
+        .collect();
+    keys.sort_unstable();
+    let mut slots: Vec<Option<P>> = particles.into_iter().map(Some).collect();
+    keys.iter()
+        .filter_map(|&(_, at)| slots[at].take())
+        .collect()
+}
+
+/// An empty queue per patch.
+fn empty_queues<P>(cols: usize, band: usize, shifted: bool) -> Vec<Vec<P>> {
+    (1..bounds(cols, band, shifted).len())
+        .map(|_| Vec::new())
+        .collect()
 }
 
 /// Patches one thread runs at once, a step of each in turn: their particles

@@ -75,6 +75,7 @@ impl Default for GammatonParams {
                 share: 1.0,
                 points: Vec::new(),
                 spots: 0,
+                mask: String::new(),
                 carries: vec![1.0],
             }],
             substances: vec![Substance {
@@ -103,6 +104,9 @@ pub enum SourceKind {
     Ground,
     /// A point or polyline (a rusty fixing, a railing), photo pixels.
     Line,
+    /// A painted mask: a greyscale image the photo's size, white = emit
+    /// (grey: proportionally fewer); first contact where it is painted.
+    Mask,
 }
 
 /// One source of γ-tons.
@@ -122,6 +126,10 @@ pub struct GammaSource {
     /// bracket), drawn from the seed; 0 = anywhere along it.
     #[serde(default)]
     pub spots: u32,
+    /// For `mask`: the path of the mask image (relative to the working
+    /// folder), the photo's size.
+    #[serde(default)]
+    pub mask: String,
     /// What each γ-ton starts with, per substance in `substances` order.
     #[serde(default)]
     pub carries: Vec<f32>,
@@ -275,6 +283,13 @@ impl GammatonParams {
                     "one amount >= 0 per substance, at most one per substance",
                 ));
             }
+            if (s.kind == SourceKind::Mask) == s.mask.is_empty() {
+                return Err(bad(
+                    field("mask"),
+                    format!("{:?}", s.mask),
+                    "the path of a greyscale image for kind = \"mask\" (white = emit), \"\" for other kinds",
+                ));
+            }
             if s.points.iter().flatten().any(|c| !c.is_finite()) {
                 return Err(bad(
                     field("points"),
@@ -320,6 +335,7 @@ pub fn builtin(name: &str) -> GammatonParams {
         share: 1.0,
         points: Vec::new(),
         spots: 0,
+        mask: String::new(),
         carries,
     };
     let fade = |color: [u8; 3], opacity: f32| {
@@ -366,16 +382,16 @@ pub fn builtin(name: &str) -> GammatonParams {
         // all on settling).
         "salt-bloom" => GammatonParams {
             enabled: true,
-            particles: 150_000,
+            particles: 400_000,
             max_depth: 10,
             p_straight: 0.75,
             p_parabolic: 0.0,
             p_flow: 0.05,
             d_straight: 0.12,
             d_flow: 0.0,
-            hop: 10.0,
+            hop: 14.0,
             consistent: false,
-            radius: 1.0,
+            radius: 2.0,
             sources: vec![GammaSource {
                 kind: SourceKind::Ground,
                 ..source(SourceKind::Ground, vec![1.0, 0.0])
@@ -394,7 +410,7 @@ pub fn builtin(name: &str) -> GammatonParams {
                     absorb: 0.3,
                     deposit: 1.0,
                     initial: 0.5,
-                    scale: 0.8,
+                    scale: 0.3,
                     stops: vec![
                         Stop::new(0.0, [236, 234, 226], 0.0),
                         Stop::new(0.3, [236, 234, 226], 0.25),
@@ -419,14 +435,14 @@ pub fn builtin(name: &str) -> GammatonParams {
             p_straight: 0.3,
             p_parabolic: 0.5,
             p_flow: 0.1,
-            hop: 12.0,
+            hop: 18.0,
             sources: vec![source(SourceKind::Ground, vec![1.0])],
             substances: vec![Substance {
                 name: "splash dirt".into(),
                 absorb: 0.0,
                 deposit: 0.3,
                 initial: 0.0,
-                scale: 0.6,
+                scale: 2.0,
                 stops: fade([72, 58, 44], 0.65),
             }],
             ..d

@@ -23,12 +23,17 @@ pub mod particle;
 pub mod rules;
 
 use rand::Rng as _;
+use rayon::prelude::*;
+use std::path::Path;
+
+use image::GrayImage;
 use serde::Serialize;
 
 use self::particle::{Fate, Gammaton, Laws, MAX_RADIUS, Motion, World};
 use super::{Context, Effect, Produced, Products, Stats, patches};
 use crate::error::{Error, Result};
 use crate::field::RowMajor;
+use crate::grid::Grid;
 use crate::preset::{GammatonParams, MAX_SUBSTANCES, Preset, SourceKind};
 use crate::progress::Progress;
 use crate::random::rng;
@@ -83,36 +88,39 @@ pub struct Outcome {
 }
 
 /// Runs every iteration. `lines` are polylines in grid pixels for line
-/// sources without points of their own (the rain's ledges).
+/// sources without points of their own (the rain's ledges); `masks` are,
+/// per source, the painted masks of mask sources on the grid (0..1, 1 =
+/// emit; see [`mask_on_grid`]).
 ///
 /// # Errors
 /// [`Error::Cancelled`], and [`Error::Preset`] for a line source with no
-/// points anywhere or a wall with no pixel.
+/// points anywhere, a mask source without a mask or one that paints no
+/// wall pixel, or a wall with no pixel.
 pub fn simulate(
     luma: &RowMajor<f32>,
     region: &RowMajor<bool>,
     lines: &[Vec<(f32, f32)>],
+    masks: &[Option<RowMajor<f32>>],
     p: &GammatonParams,
     seed: u64,
     progress: &Progress,
 ) -> Result<Outcome> {
     let (w, h) = (luma.width(), luma.height());
     let n = p.substances.len().min(MAX_SUBSTANCES);
-    let col = |f: &dyn Fn(usize, usize) -> f32| -> Vec<f32> {
-        (0..w * h).map(|i| f(i / h, i % h)).collect()
+    let col = |f: &(dyn Fn(usize, usize) -> f32 + Sync)| -> Vec<f32> {
+        (0..w * h)
+            .into_par_iter()
+            .map(|i| f(i / h, i % h))
+            .collect()
     };
-    let mut world = World {
-        width: w,
-        rows: h,
-        maps: p
-            .substances
-            .iter()
-            .map(|s| col(&|x, y| if region.get(x, y) { s.initial } else { 0.0 }))
-            .collect(),
-        region: (0..w * h).map(|i| region.get(i / h, i % h)).collect(),
-        luma: col(&|x, y| luma.get(x, y)),
-    };
-    let emitters = Emitters::new(&world, p, lines, seed)?;
+    let maps = p
+        .substances
+        .iter()
+        .map(|s| col(&|x, y| if region.get(x, y) { s.initial } else { 0.0 }))
+        .collect();
+    let wall = (0..w * h).map(|i| region.get(i / h, i % h)).collect();
+    let mut world = World::new(w, h, maps, wall, &col(&|x, y| luma.get(x, y)));
+    let emitters = Emitters::new(&world, p, lines, masks, seed)?;
     let mut laws = Laws {
         substances: n,
         absorb: [0.0; MAX_SUBSTANCES],
@@ -155,7 +163,9 @@ pub fn simulate(
     for it in 0..p.iterations {
         for start in (0..count).step_by(BATCH) {
             progress.update("gamma-tons", done as f32 / batches as f32);
+            // Each from its own stream: emitted side by side, in order.
             let tons: Vec<Gammaton> = (start..(start + BATCH).min(count))
+                .into_par_iter()
                 .map(|k| emitters.emit(p, seed, it, k))
                 .collect();
             for t in &tons {
@@ -210,7 +220,11 @@ struct Emitters {
     lines: Vec<Vec<Vec<(f32, f32)>>>,
     /// Per source: its fixed spots (fractions along its lines), if any.
     spots: Vec<Vec<f32>>,
+    /// Per source: where its painted mask emits (mask sources).
+    painted: Vec<Painted>,
     rows: usize,
+    /// Pixels on the grid.
+    pixels: usize,
 }
 
 impl Emitters {
@@ -218,6 +232,7 @@ impl Emitters {
         world: &World,
         p: &GammatonParams,
         ledges: &[Vec<(f32, f32)>],
+        masks: &[Option<RowMajor<f32>>],
         seed: u64,
     ) -> Result<Emitters> {
         let rows = world.rows;
@@ -262,6 +277,25 @@ impl Emitters {
             };
             lines.push(own);
         }
+        let mut painted = Vec::with_capacity(p.sources.len());
+        for (i, s) in p.sources.iter().enumerate() {
+            let here = match (s.kind, masks.get(i)) {
+                (SourceKind::Mask, Some(Some(mask))) => Painted::new(mask, world),
+                (SourceKind::Mask, _) => {
+                    return Err(Error::Preset(format!(
+                        "gammaton.sources[{i}] is a mask source whose mask {:?} was not loaded (gammaton::load_masks)",
+                        s.mask
+                    )));
+                }
+                _ => Some(Painted::default()),
+            };
+            painted.push(here.ok_or_else(|| {
+                Error::Preset(format!(
+                    "gammaton.sources[{i}].mask {:?} paints no wall pixel: paint white where the γ-tons start",
+                    s.mask
+                ))
+            })?);
+        }
         let spots = p
             .sources
             .iter()
@@ -277,7 +311,9 @@ impl Emitters {
             feet,
             lines,
             spots,
+            painted,
             rows,
+            pixels: world.region.len(),
         })
     }
 
@@ -298,9 +334,21 @@ impl Emitters {
         let probs = [p.p_straight, p.p_parabolic, p.p_flow];
         let jitter = |r: &mut crate::random::Rng| r.random::<f32>();
         let (pos, vel, motion, left) = match source.kind {
-            // Rain meets the wall anywhere: the first contact is there.
-            SourceKind::Sky => {
-                let at = self.wall[r.random_range(0..self.wall.len())] as usize;
+            // Rain meets the wall anywhere, a painted mask where it is
+            // painted: the first contact is there.
+            SourceKind::Sky | SourceKind::Mask => {
+                let at = match source.kind {
+                    SourceKind::Mask => self.painted[i].draw(&mut r),
+                    _ => {
+                        let j = r.random_range(0..self.wall.len());
+                        // A whole-grid wall lists every pixel: skip the
+                        // look-up (a cache miss per γ-ton on a large grid).
+                        match self.wall.len() == self.pixels {
+                            true => j,
+                            false => self.wall[j] as usize,
+                        }
+                    }
+                };
                 let (x, y) = (at / self.rows, at % self.rows);
                 (
                     (x as f32 + jitter(&mut r), y as f32 + jitter(&mut r)),
@@ -309,11 +357,13 @@ impl Emitters {
                     0.0,
                 )
             }
-            // Splash: thrown up from the foot of the wall.
+            // Splash: thrown up from the foot of the wall, most of it not
+            // far [choice: heights exponential with mean `hop`, at most 4
+            // hops, so the foot gets the most].
             SourceKind::Ground => {
                 let (x, y) = self.feet[r.random_range(0..self.feet.len())];
                 let a = (jitter(&mut r) * 2.0 - 1.0) * 0.5;
-                let up = p.hop * (0.3 + jitter(&mut r));
+                let up = (-p.hop * (1.0 - jitter(&mut r)).ln()).min(4.0 * p.hop);
                 (
                     (x as f32 + jitter(&mut r), y as f32 + 0.5),
                     (a.sin(), -a.cos()),
@@ -337,6 +387,78 @@ impl Emitters {
         };
         Gammaton::new(k, pos, vel, motion, left, probs, carried, r)
     }
+}
+
+/// Where a painted mask emits: its wall pixels (column-major indices) with
+/// the running sum of their grey levels.
+#[derive(Default)]
+struct Painted {
+    cells: Vec<u32>,
+    sums: Vec<f64>,
+}
+
+impl Painted {
+    /// The mask's wall pixels above zero; `None` if there are none.
+    fn new(mask: &RowMajor<f32>, world: &World) -> Option<Painted> {
+        let mut painted = Painted::default();
+        let mut sum = 0.0;
+        for (i, &wall) in world.region.iter().enumerate() {
+            let v = mask.get(i / world.rows, i % world.rows);
+            if wall && v > 0.0 {
+                sum += v as f64;
+                painted.cells.push(i as u32);
+                painted.sums.push(sum);
+            }
+        }
+        (!painted.cells.is_empty()).then_some(painted)
+    }
+
+    /// A pixel, drawn in proportion to its grey level.
+    fn draw(&self, r: &mut crate::random::Rng) -> usize {
+        let total = self.sums.last().copied().unwrap_or(0.0);
+        let xi = r.random::<f64>() * total;
+        let j = self.sums.partition_point(|&s| s <= xi);
+        self.cells[j.min(self.cells.len() - 1)] as usize
+    }
+}
+
+/// A mask source's image (photo-sized, 255 = emit) on the grid: each cell
+/// takes the mask at its centre, 0..1.
+pub fn mask_on_grid(mask: &GrayImage, grid: &Grid) -> RowMajor<f32> {
+    let (w, h) = mask.dimensions();
+    RowMajor::from_fn(grid.width, grid.height, |x, y| {
+        let (px, py) = grid.to_photo(x as f32 + 0.5, y as f32 + 0.5);
+        let (px, py) = ((px as u32).min(w - 1), (py as u32).min(h - 1));
+        mask.get_pixel(px, py)[0] as f32 / 255.0
+    })
+}
+
+/// The painted masks of `p`'s mask sources (`None` for other sources),
+/// read from their files and put on the grid.
+///
+/// # Errors
+/// [`Error::Preset`] naming the source when a mask cannot be read or is
+/// not `w` x `h` (the photo's size).
+pub fn load_masks(
+    p: &GammatonParams,
+    grid: &Grid,
+    (w, h): (u32, u32),
+) -> Result<Vec<Option<RowMajor<f32>>>> {
+    p.sources
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            if s.kind != SourceKind::Mask {
+                return Ok(None);
+            }
+            let mask = crate::io::load_mask(Path::new(&s.mask), w, h).map_err(|e| {
+                Error::Preset(format!(
+                    "gammaton.sources[{i}].mask: {e}; give a greyscale image the photo's size ({w}x{h}), white where γ-tons start"
+                ))
+            })?;
+            Ok(Some(mask_on_grid(&mask, grid)))
+        })
+        .collect()
 }
 
 /// The point a fraction `t` along the polylines' total length.
@@ -381,10 +503,12 @@ pub(super) fn stage(
             *q = [x, y];
         }
     }
+    let masks = load_masks(p, grid, ctx.size())?;
     let out = simulate(
         ctx.luma,
         ctx.region,
         &ledges,
+        &masks,
         &p_grid,
         preset.seed,
         &progress.span(0.0, 0.9),

@@ -33,6 +33,7 @@ fn params(consistent: bool) -> GammatonParams {
                 share: 2.0,
                 points: Vec::new(),
                 spots: 0,
+                mask: String::new(),
                 carries: vec![1.0, 0.0],
             },
             GammaSource {
@@ -40,6 +41,7 @@ fn params(consistent: bool) -> GammatonParams {
                 share: 1.0,
                 points: Vec::new(),
                 spots: 0,
+                mask: String::new(),
                 carries: vec![0.5, 0.2],
             },
         ],
@@ -53,7 +55,7 @@ fn params(consistent: bool) -> GammatonParams {
 
 fn run(p: &GammatonParams) -> Outcome {
     let (luma, region) = wall(200, 120);
-    simulate(&luma, &region, &[], p, 9, &Progress::none()).unwrap()
+    simulate(&luma, &region, &[], &[], p, 9, &Progress::none()).unwrap()
 }
 
 /// initial + emitted = on the wall + lost, per substance (no rules).
@@ -221,4 +223,129 @@ fn stops_interpolate_and_clamp() {
     let (c, a) = rules::sample(&stops, 0.4);
     assert!((c[0] - 100.0).abs() < 1e-3 && (c[1] - 50.0).abs() < 1e-3 && (a - 0.5).abs() < 1e-6);
     assert_eq!(rules::sample(&stops, 1.0), ([200.0, 100.0, 0.0], 1.0));
+}
+
+#[test]
+fn a_line_source_off_the_grid_does_not_panic() {
+    // Points above and below the grid: the γ-tons start off it and leave.
+    let mut p = params(true);
+    p.p_flow = 0.9;
+    p.p_straight = 0.0;
+    p.p_parabolic = 0.0;
+    p.sources = vec![GammaSource {
+        kind: SourceKind::Line,
+        share: 1.0,
+        points: vec![[20.0, -40.0], [180.0, -30.0], [150.0, 400.0]],
+        spots: 0,
+        mask: String::new(),
+        carries: vec![1.0],
+    }];
+    let out = run(&p);
+    assert_eq!(out.stats.emitted, 3000);
+    assert_conserved(&out);
+}
+
+fn mask_source() -> GammaSource {
+    GammaSource {
+        kind: SourceKind::Mask,
+        share: 1.0,
+        points: Vec::new(),
+        spots: 0,
+        mask: "painted.png".into(),
+        carries: vec![1.0, 0.0],
+    }
+}
+
+#[test]
+fn a_painted_mask_emits_only_where_it_is_white() {
+    // Settle-only γ-tons: each leaves its water where it starts.
+    let mut p = params(false);
+    (p.p_straight, p.p_parabolic, p.p_flow) = (0.0, 0.0, 0.0);
+    p.radius = 0.0;
+    p.substances[0].deposit = 1.0;
+    p.substances[1].initial = 0.0;
+    p.sources = vec![mask_source()];
+    let (luma, region) = wall(200, 120);
+    // White square at x 50..60, y 30..40; grey (half as likely) at 100..110.
+    let mask = RowMajor::from_fn(200, 120, |x, y| match (x, y) {
+        (50..60, 30..40) => 1.0,
+        (100..110, 30..40) => 0.5,
+        _ => 0.0,
+    });
+    let out = simulate(&luma, &region, &[], &[Some(mask)], &p, 9, &Progress::none()).unwrap();
+    let water = &out.maps[0];
+    let sum = |x0: usize, x1: usize| -> f32 {
+        (x0..x1)
+            .flat_map(|x| (30..40).map(move |y| (x, y)))
+            .map(|(x, y)| water.get(x, y))
+            .sum()
+    };
+    let (white, grey) = (sum(50, 60), sum(100, 110));
+    assert!(
+        (white + grey - 3000.0).abs() < 0.5,
+        "all water in the squares"
+    );
+    assert!(
+        (grey / white - 0.5).abs() < 0.1,
+        "grey emits half: {grey} vs {white}"
+    );
+}
+
+#[test]
+fn a_mask_source_needs_its_mask_the_photos_size() {
+    use crate::grid::Grid;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("painted.png");
+    let mut p = params(true);
+    p.sources = vec![GammaSource {
+        mask: path.to_string_lossy().into_owned(),
+        ..mask_source()
+    }];
+    // The preset names a mask exactly for mask sources.
+    assert!(p.validate().is_ok());
+    p.sources[0].mask.clear();
+    assert!(p.validate().is_err(), "a mask source without a mask");
+    p.sources[0].kind = SourceKind::Sky;
+    assert!(p.validate().is_ok());
+    p.sources[0].mask = "painted.png".into();
+    assert!(p.validate().is_err(), "a sky source with a mask");
+    p.sources[0] = GammaSource {
+        mask: path.to_string_lossy().into_owned(),
+        ..mask_source()
+    };
+    let grid = Grid::new(40, 30, None, 0).unwrap();
+    // Missing.
+    let e = load_masks(&p, &grid, (40, 30)).unwrap_err().to_string();
+    assert!(
+        e.contains("gammaton.sources[0].mask") && e.contains("painted.png"),
+        "{e}"
+    );
+    // Wrong size.
+    image::GrayImage::from_pixel(20, 30, image::Luma([255]))
+        .save(&path)
+        .unwrap();
+    let e = load_masks(&p, &grid, (40, 30)).unwrap_err().to_string();
+    assert!(e.contains("20x30") && e.contains("40x30"), "{e}");
+    // Right size, on a grid half the photo's size: white on the left half.
+    image::GrayImage::from_fn(40, 30, |x, _| image::Luma([if x < 20 { 255 } else { 0 }]))
+        .save(&path)
+        .unwrap();
+    let grid = Grid::new(40, 30, None, 20).unwrap();
+    let masks = load_masks(&p, &grid, (40, 30)).unwrap();
+    let m = masks[0].as_ref().unwrap();
+    assert_eq!((m.width(), m.height()), (20, 15));
+    assert_eq!((m.get(9, 7), m.get(10, 7)), (1.0, 0.0));
+    // A mask source with nothing white on the wall is refused.
+    let (luma, region) = wall(20, 15);
+    let blank = RowMajor::filled(20, 15, 0.0);
+    let e = simulate(
+        &luma,
+        &region,
+        &[],
+        &[Some(blank)],
+        &p,
+        1,
+        &Progress::none(),
+    );
+    assert!(matches!(e, Err(Error::Preset(m)) if m.contains("paints no wall pixel")));
 }
