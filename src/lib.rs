@@ -22,6 +22,7 @@
 pub mod age;
 pub mod analysis;
 pub mod batch;
+pub mod clock;
 pub mod demo;
 pub mod effects;
 pub mod error;

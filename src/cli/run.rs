@@ -66,7 +66,7 @@ pub struct RunArgs {
 }
 
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
-    let preset = args.preset.resolve()?;
+    let (preset, pins) = args.preset.resolve()?;
     let source = match (&args.demo, &args.input) {
         (Some(name), _) => Source::Demo(name.clone()),
         (None, Some(input)) => Source::File(input.clone()),

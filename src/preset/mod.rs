@@ -6,10 +6,12 @@
 //! same table documents each field (`grime preset default`) and gives the GUI
 //! its slider ranges and tooltips, so the three cannot drift apart.
 
+mod age;
 mod diff;
 mod gammaton;
 mod params;
 
+pub use age::AgeParams;
 pub use diff::diff_paths;
 pub use gammaton::{
     GammaSource, GammatonParams, MAX_SUBSTANCES, Rule, RuleKind, SourceKind, Stop, Substance,
@@ -26,6 +28,8 @@ use crate::error::{Error, Result};
 pub struct Preset {
     /// Master seed; every random stream is derived from it.
     pub seed: u64,
+    /// The one clock: age in years and each effect's rate per year.
+    pub age: AgeParams,
     /// Simulation grid.
     pub sim: SimParams,
     /// Rain streaks (Chang et al. eqs. 1-17).
@@ -44,6 +48,7 @@ impl Default for Preset {
     fn default() -> Self {
         Preset {
             seed: 1,
+            age: AgeParams::default(),
             sim: SimParams::default(),
             rain: RainParams::default(),
             stain: StainParams::default(),
@@ -546,6 +551,9 @@ impl Preset {
             .and_then(|mut t| t.remove("v"))
             .unwrap_or_else(|| toml::Value::String(raw.to_string()));
         let mut value = toml::Value::try_from(&*self).map_err(|e| Error::Preset(e.to_string()))?;
+        if param(key).is_some() {
+            insert_missing(&mut value, key);
+        }
         let slot = lookup_mut(&mut value, key).ok_or_else(|| {
             Error::Preset(format!(
                 "--set: unknown field {key:?}; see `grime preset default`"
@@ -598,6 +606,7 @@ impl Preset {
                 for (k, v) in t {
                     push_field(&mut out, &format!("{section}.{k}"), k, v);
                 }
+                push_unset(&mut out, section, t);
             }
         }
         out
@@ -625,6 +634,24 @@ fn push_field(out: &mut String, path: &str, key: &str, v: &toml::Value) {
         out.push_str(&format!("# {}{sym}.{range}\n", spec.doc));
     }
     out.push_str(&format!("{key} = {}\n", toml_literal(v)));
+}
+
+/// Documents the fields of `section` that are unset (optional fields, such
+/// as `age.years`), as commented-out lines.
+fn push_unset(out: &mut String, section: &str, table: &toml::Table) {
+    let prefix = format!("{section}.");
+    for spec in PARAMS {
+        let Some(key) = spec.path.strip_prefix(&prefix) else {
+            continue;
+        };
+        if !key.contains('.') && !table.contains_key(key) {
+            let range = format!(" Range {} ..= {}.", spec.min, spec.max);
+            out.push_str(&format!(
+                "# {}.{range} Unset by default.\n# {key} = (a number)\n",
+                spec.doc
+            ));
+        }
+    }
 }
 
 /// Every value at `keys` below `v`; arrays fan out (each element is looked
@@ -659,6 +686,18 @@ fn toml_literal(v: &toml::Value) -> String {
             format!("[{}]", items.join(", "))
         }
         other => other.to_string(),
+    }
+}
+
+/// Makes room for an optional field that is unset (so absent from the
+/// serialised preset), e.g. `age.years`, so `--set` can give it a value.
+fn insert_missing(v: &mut toml::Value, path: &str) {
+    let Some((parent, key)) = path.rsplit_once('.') else {
+        return;
+    };
+    if let Some(toml::Value::Table(t)) = lookup_mut(v, parent) {
+        t.entry(key)
+            .or_insert_with(|| toml::Value::String(String::new()));
     }
 }
 
