@@ -199,6 +199,11 @@ impl Context<'_> {
 pub struct Products {
     /// The rain's wall state after the last rainfall.
     pub rain: Option<Arc<rain::RainOutput>>,
+    /// Rainfall counts after which the rain should also keep the wall (a
+    /// time-lapse's frames; [`rain::simulate_keeping`]).
+    pub keep_rain_at: Vec<u32>,
+    /// The walls it kept, in rainfall order.
+    pub rain_kept: Vec<Arc<rain::Kept>>,
 }
 
 /// What one effect made.

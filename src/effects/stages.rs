@@ -60,7 +60,14 @@ pub(super) fn rain(
         region: ctx.region,
         source_lines,
     };
-    let out = rain::simulate(&input, &preset.rain, preset.seed, &progress.span(0.0, 0.87))?;
+    let (out, kept) = rain::simulate_keeping(
+        &input,
+        &preset.rain,
+        preset.seed,
+        &progress.span(0.0, 0.87),
+        &products.keep_rain_at,
+    )?;
+    products.rain_kept = kept.into_iter().map(Arc::new).collect();
 
     let d_max = rain::stain::d_max(&out.layers, preset.stain.percentile);
     let mut layers = Vec::with_capacity(out.layers.len());
