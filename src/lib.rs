@@ -40,6 +40,8 @@ pub mod pipeline;
 pub mod preset;
 pub mod progress;
 pub mod random;
+pub mod recipe;
 pub mod stack;
+pub mod timelapse;
 
 pub use error::{Error, Result};
