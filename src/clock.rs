@@ -113,6 +113,17 @@ pub fn resolve(preset: &Preset, pins: Pins) -> Result<Preset> {
     Ok(out)
 }
 
+/// The fields of `preset` that differ from what its clock gives (so were
+/// set over it); none when `age.years` is unset.
+pub fn pins_of(preset: &Preset) -> Pins {
+    let Some(years) = preset.age.years else {
+        return Pins::none();
+    };
+    let have = [preset.rain.layers, preset.moss.years, preset.dust.days];
+    let clock = counts(&preset.age, years);
+    Pins(std::array::from_fn(|i| have[i] as f64 != clock[i]))
+}
+
 /// `preset` at `years` of age: [`resolve`] with `age.years = years`.
 ///
 /// # Errors
@@ -152,6 +163,7 @@ mod tests {
         assert_eq!((r.rain.layers, r.moss.years, r.dust.days), (5, 30, 730));
         // Resolving again changes nothing: a recipe re-runs the same.
         assert_eq!(resolve(&r, pins).unwrap(), r);
+        assert_eq!(pins_of(&r), pins);
     }
 
     #[test]

@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use super::{Cache, Outcome, run_cached};
 use crate::clock;
-use crate::effects::{Effect, Produced, Products};
+use crate::effects::{Effect, Produced, Products, stale};
 use crate::error::{Error, Result};
 use crate::pipeline::Scene;
 use crate::preset::Preset;
@@ -55,10 +55,12 @@ pub fn run_frames(
             .iter()
             .find(|k| k.rainfalls == frame.rain.layers)
             .ok_or_else(|| Error::Preset("a frame's rainfalls were not kept".into()))?;
+        // What the frame can keep: effects that read nothing and whose
+        // fields it does not change (copying the others would be wasted).
         let mut made: BTreeMap<Effect, (Preset, Produced)> = cache
             .made
             .iter()
-            .filter(|(e, _)| e.inputs().is_empty())
+            .filter(|(e, (p, _))| e.inputs().is_empty() && !stale(p, frame).contains(e))
             .map(|(e, m)| (*e, m.clone()))
             .collect();
         made.insert(Effect::Rain, (frame.clone(), first(&rain, kept.rainfalls)));
