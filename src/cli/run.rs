@@ -77,6 +77,10 @@ pub struct RunArgs {
     /// Write the age ("12 years") on each time-lapse frame.
     #[arg(long, requires = "timelapse")]
     caption: bool,
+    /// Longest side of a .gif or .png time-lapse's frames, pixels (0 = the
+    /// photo's; a frames folder is always full size).
+    #[arg(long, value_name = "PX", default_value_t = 1024, requires = "timelapse")]
+    frame_size: u32,
     /// Age with the recipe stored in FILE (an output of grime): the same
     /// input gives a byte-identical output.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["preset", "set", "layers", "years", "seed", "region", "sources", "wall_width", "quad"])]
@@ -131,6 +135,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             let mut t = Timelapse::new(path);
             t.pins = pins;
             t.caption = args.caption;
+            t.max_side = args.frame_size;
             t.years = match &args.frames {
                 Some(list) => timelapse::parse_years(list)?,
                 None => timelapse::default_years(preset.age.years.unwrap_or(0)),
