@@ -79,7 +79,12 @@ pub struct RunArgs {
     caption: bool,
     /// Longest side of a .gif or .png time-lapse's frames, pixels (0 = the
     /// photo's; a frames folder is always full size).
-    #[arg(long, value_name = "PX", default_value_t = 1024, requires = "timelapse")]
+    #[arg(
+        long,
+        value_name = "PX",
+        default_value_t = 1024,
+        requires = "timelapse"
+    )]
     frame_size: u32,
     /// Age with the recipe stored in FILE (an output of grime): the same
     /// input gives a byte-identical output.

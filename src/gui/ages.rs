@@ -93,7 +93,10 @@ pub fn panel(
     }
     let playing = preview.is_playing();
     let label = if playing { "Stop" } else { "Play" };
-    if ui.add_enabled(ready, eframe::egui::Button::new(label)).clicked() {
+    if ui
+        .add_enabled(ready, eframe::egui::Button::new(label))
+        .clicked()
+    {
         out.push(Command::PlayAges(!playing));
     }
 }

@@ -446,10 +446,10 @@ impl Controller {
                 let Some(l) = &mut self.loaded else { return };
                 let mut p = l.doc.preset.clone();
                 // The clock's fields set the effects' counts (crate::clock).
-                let set = p.set(&format!("{path}={value}")).and_then(|()| match path.starts_with("age.") {
-                    true => crate::clock::resolve(&p, crate::clock::Pins::none()).map(|r| p = r),
-                    false => Ok(()),
-                });
+                let mut set = p.set(&format!("{path}={value}"));
+                if set.is_ok() && path.starts_with("age.") {
+                    set = crate::clock::resolve(&p, crate::clock::Pins::none()).map(|r| p = r);
+                }
                 match set {
                     Ok(()) => {
                         p.rain.source_lines.clear();

@@ -200,7 +200,11 @@ impl Scheduler {
         if since.elapsed() < step {
             return;
         }
-        let last = self.current.as_ref().map_or(0, |p| p.ages.len() as u32).saturating_sub(1);
+        let last = self
+            .current
+            .as_ref()
+            .map_or(0, |p| p.ages.len() as u32)
+            .saturating_sub(1);
         match self.age_view {
             Some(y) if y + 1 < last => self.show_age(Some(y + 1)),
             _ => {
