@@ -596,6 +596,8 @@ impl Preset {
         let toml::Value::Table(root) = &value else {
             return out;
         };
+        let defaults = toml::Value::try_from(Preset::default())
+            .unwrap_or(toml::Value::Table(Default::default()));
         // Top-level scalars first, then one [section] per table.
         for (k, v) in root.iter().filter(|(_, v)| !v.is_table()) {
             push_field(&mut out, k, k, v);
@@ -604,7 +606,19 @@ impl Preset {
             out.push_str(&format!("\n[{section}]\n"));
             if let toml::Value::Table(t) = v {
                 for (k, v) in t {
-                    push_field(&mut out, &format!("{section}.{k}"), k, v);
+                    let path = format!("{section}.{k}");
+                    push_field(&mut out, &path, k, v);
+                    // A count the clock sets, at its default, is written
+                    // commented out: written, it would pin the count
+                    // against `age.years` (crate::clock).
+                    let default = defaults.get(section).and_then(|d| d.get(k));
+                    if crate::clock::FIELDS.contains(&path.as_str()) && default == Some(v) {
+                        let line = format!("{k} = {}\n", toml_literal(v));
+                        out.truncate(out.len() - line.len());
+                        out.push_str(&format!(
+                            "# (its default, left to age.years when that is set; uncomment to keep it)\n# {line}"
+                        ));
+                    }
                 }
                 push_unset(&mut out, section, t);
             }

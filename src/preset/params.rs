@@ -45,7 +45,7 @@ pub const PARAMS: &[ParamSpec] = &[
     p(
         "age.years",
         "",
-        "Age of the wall in years: sets rain.layers, moss.years and dust.days from the rates below (fields named on the command line, or written in the preset file, win)",
+        "Age of the wall in years: sets rain.layers, moss.years and dust.days from the per-year rates of this section (those fields given on the command line, or written uncommented in the preset file, win)",
         0.0,
         250.0,
     ),
