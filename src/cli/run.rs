@@ -141,10 +141,18 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             t.pins = pins;
             t.caption = args.caption;
             t.max_side = args.frame_size;
+            let Some(years) = preset.age.years else {
+                bail!("--timelapse needs an age: add --years N (or age.years in the preset)");
+            };
             t.years = match &args.frames {
                 Some(list) => timelapse::parse_years(list)?,
-                None => timelapse::default_years(preset.age.years.unwrap_or(0)),
+                None => timelapse::default_years(years),
             };
+            if let Some(late) = t.years.iter().find(|&&y| y > years) {
+                bail!(
+                    "--frames {late} is later than --years {years}; give frames from 0 to {years}"
+                );
+            }
             if t.kind()? == timelapse::Kind::Folder {
                 std::fs::create_dir_all(path).with_context(|| {
                     format!("{}: cannot create the frames folder", path.display())
