@@ -124,6 +124,21 @@ pub fn pins_of(preset: &Preset) -> Pins {
     Pins(std::array::from_fn(|i| have[i] as f64 != clock[i]))
 }
 
+/// Parses a preset file and applies its clock, the counts it writes pinned.
+///
+/// # Errors
+/// As [`Preset::from_toml`] and [`resolve`].
+pub fn load(text: &str) -> Result<Preset> {
+    resolve(&Preset::from_toml(text)?, Pins::in_toml(text))
+}
+
+/// The value the clock gives `path` (one of [`FIELDS`]) at `preset`'s
+/// age; `None` for another field or with the clock off.
+pub fn free_value(preset: &Preset, path: &str) -> Option<i64> {
+    let i = FIELDS.iter().position(|f| *f == path)?;
+    Some(counts(&preset.age, preset.age.years?)[i] as i64)
+}
+
 /// `preset` at `years` of age: [`resolve`] with `age.years = years`.
 ///
 /// # Errors

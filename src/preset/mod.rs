@@ -608,15 +608,23 @@ impl Preset {
                 for (k, v) in t {
                     let path = format!("{section}.{k}");
                     push_field(&mut out, &path, k, v);
-                    // A count the clock sets, at its default, is written
-                    // commented out: written, it would pin the count
-                    // against `age.years` (crate::clock).
+                    // A count the clock sets, at the value it would have
+                    // anyway (the clock's at this age, or the default), is
+                    // written commented out: written, it would pin the
+                    // count against `age.years` (crate::clock).
                     let default = defaults.get(section).and_then(|d| d.get(k));
-                    if crate::clock::FIELDS.contains(&path.as_str()) && default == Some(v) {
+                    let free = crate::clock::FIELDS
+                        .contains(&path.as_str())
+                        .then(|| {
+                            crate::clock::free_value(self, &path)
+                                .or(default.and_then(toml::Value::as_integer))
+                        })
+                        .flatten();
+                    if free.is_some() && free == v.as_integer() {
                         let line = format!("{k} = {}\n", toml_literal(v));
                         out.truncate(out.len() - line.len());
                         out.push_str(&format!(
-                            "# (its default, left to age.years when that is set; uncomment to keep it)\n# {line}"
+                            "# (left to age.years when that is set; uncomment to keep it)\n# {line}"
                         ));
                     }
                 }
