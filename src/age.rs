@@ -19,7 +19,9 @@ use crate::perspective::Quad;
 use crate::pipeline::{self, Outcome, Scene, Site};
 use crate::preset::Preset;
 use crate::progress::Progress;
+use crate::recipe::Recipe;
 use crate::stack::Stack;
+use crate::timelapse::{self, Timelapse};
 
 /// Where the photo comes from.
 #[derive(Debug, Clone)]
@@ -119,6 +121,8 @@ pub struct Outputs {
     pub report: Option<PathBuf>,
     /// Create missing output folders (batch) instead of refusing (run).
     pub create_dirs: bool,
+    /// A time-lapse of the ageing, up to the preset's `age.years`.
+    pub timelapse: Option<Timelapse>,
 }
 
 /// Checks `outputs` against `inputs` and each other, before any work.
@@ -198,6 +202,11 @@ fn named_outputs(outputs: &Outputs) -> Result<Vec<(PathBuf, String)>> {
     }
     if let Some(r) = &outputs.report {
         named.push((r.clone(), "--report".to_string()));
+    }
+    if let Some(t) = &outputs.timelapse {
+        for p in t.files(None)? {
+            named.push((p, "--timelapse".to_string()));
+        }
     }
     Ok(named)
 }
@@ -345,25 +354,32 @@ pub fn age_adjusted(
 ) -> Result<Outcome> {
     guard(inputs, outputs)?;
     let (scene, preset) = load(inputs, preset)?;
-    let mut outcome = pipeline::run(&scene, &preset, &progress.span(0.0, 0.95))?;
+    let recipe = Recipe::new(inputs, &preset)?;
+    let span = progress.span(0.0, 0.95);
+    let mut outcome = match &outputs.timelapse {
+        None => pipeline::run(&scene, &preset, &span)?,
+        Some(t) => timelapse::run(&scene, &preset, t, &recipe, &span)?,
+    };
     adjust(&mut outcome.stack);
     progress.update("writing", 0.95);
-    write(&outcome, outputs)?;
+    write(&outcome, outputs, Some(&recipe))?;
     progress.update("done", 1.0);
     Ok(outcome)
 }
 
-/// Writes every output of `outcome`, each atomically.
+/// Writes every output of `outcome`, each atomically, the images with
+/// `recipe` inside (the time-lapse is written as it runs).
 ///
 /// # Errors
 /// Writing errors naming the file.
-pub fn write(outcome: &Outcome, outputs: &Outputs) -> Result<()> {
+pub fn write(outcome: &Outcome, outputs: &Outputs, recipe: Option<&Recipe>) -> Result<()> {
+    let text = recipe.map(Recipe::to_text);
     for out in &outputs.images {
         if outputs.create_dirs {
             let dir = folder_of(out);
             std::fs::create_dir_all(&dir).map_err(|e| Error::io(dir, e))?;
         }
-        export::save(&outcome.stack, out)?;
+        export::save_with(&outcome.stack, out, text.as_deref())?;
     }
     if let Some(dir) = &outputs.layers_dir {
         export::layers_dir::write(&outcome.stack, dir)?;

@@ -172,6 +172,17 @@ pub enum Error {
     /// The caller cancelled the run.
     #[error("cancelled")]
     Cancelled,
+    /// A recipe's input files are not the ones given (`--recipe-from`).
+    #[error("{0}")]
+    RecipeMismatch(String),
+    /// A file holds no grime recipe.
+    #[error("{path}: no grime recipe in this file ({reason})")]
+    NoRecipe {
+        /// The file involved.
+        path: PathBuf,
+        /// Why none was found.
+        reason: String,
+    },
     /// Two outputs of one run would be the same file.
     #[error("{path}: both {first} and {second} would write this file; give each its own path")]
     OutputClash {

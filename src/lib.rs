@@ -22,6 +22,7 @@
 pub mod age;
 pub mod analysis;
 pub mod batch;
+pub mod clock;
 pub mod demo;
 pub mod effects;
 pub mod error;
@@ -39,6 +40,8 @@ pub mod pipeline;
 pub mod preset;
 pub mod progress;
 pub mod random;
+pub mod recipe;
 pub mod stack;
+pub mod timelapse;
 
 pub use error::{Error, Result};

@@ -518,3 +518,44 @@ fn export_refuses_to_overwrite_the_photo_or_the_project_mask() {
     );
     assert!(matches!(h.state().last_export(), Some(Ok(_))));
 }
+
+#[test]
+fn scrubbing_the_age_shows_cached_frames_without_the_simulation_worker() {
+    let mut p = quick_preset();
+    p.age.years = Some(4);
+    let p = grime::clock::resolve(&p, grime::clock::Pins::none()).unwrap();
+    let mut h = facade_with(p);
+    let simulations = h.state().controller().preview().simulations();
+    let now = h.state().preview_image().unwrap().clone();
+    h.get_by_role_and_label(Role::Slider, "Age (years)")
+        .set_value_accesskit(0.0);
+    h.step();
+    assert!(!h.state().is_busy(), "no simulation to wait for");
+    let zero = h.state().preview_image().unwrap().clone();
+    assert!(!diff(&zero, &now).is_empty(), "year 0 is not the aged wall");
+    // Year 0 is the photo.
+    let photo = {
+        let l = h.state().controller().loaded().unwrap();
+        grime::gui::render::to_color_image(l.proxy.photo.image())
+    };
+    assert!(diff(&zero, &photo).is_empty(), "year 0 shows the photo");
+    h.get_by_role_and_label(Role::Slider, "Age (years)")
+        .set_value_accesskit(4.0);
+    h.step();
+    assert!(diff(h.state().preview_image().unwrap(), &now).is_empty());
+    // Play runs through the years and stops at the end.
+    click(&mut h, "Play");
+    assert!(h.state().controller().preview().is_playing());
+    let start = Instant::now();
+    while h.state().controller().preview().is_playing() {
+        assert!(start.elapsed() < Duration::from_secs(30), "never stopped");
+        h.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(h.state().controller().preview().age_view(), None);
+    assert_eq!(
+        h.state().controller().preview().simulations(),
+        simulations,
+        "the simulation worker never started"
+    );
+}

@@ -186,6 +186,7 @@ fn age_job(plan: &Plan, job: &Job, preset: &Preset, progress: &Progress) -> crat
         layers_dir: job.layers_dir.clone(),
         report: None,
         create_dirs: true,
+        timelapse: None,
     };
     age::age(&inputs, preset, &outputs, progress).map(drop)
 }

@@ -81,7 +81,7 @@ pub struct BatchArgs {
 }
 
 pub fn run(args: BatchArgs) -> anyhow::Result<()> {
-    let preset = args.preset.resolve()?;
+    let (preset, _) = args.preset.resolve()?;
     preset.validate()?;
     if args.jobs == Some(0) {
         bail!("--jobs must be at least 1");

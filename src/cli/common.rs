@@ -5,6 +5,7 @@ use std::path::Path;
 
 use anyhow::Context;
 use clap::Args;
+use grime::clock::{self, Pins};
 use grime::preset::{self, Preset};
 
 /// Flags that choose and adjust the preset.
@@ -19,6 +20,12 @@ pub struct PresetFlags {
     /// Number of rainfalls (same as `--set rain.layers=N`).
     #[arg(long, value_name = "N")]
     pub layers: Option<u32>,
+    /// Age of the wall in years (same as `--set age.years=N`): sets the
+    /// rainfalls, moss years and dust days from the rates in the preset's
+    /// [age] section. Fields given with --layers or --set, or written in the
+    /// preset file, win over it.
+    #[arg(long, value_name = "N")]
+    pub years: Option<u32>,
     /// Random seed (same as `--set seed=N`).
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
@@ -30,11 +37,16 @@ pub struct PresetFlags {
 }
 
 impl PresetFlags {
-    /// The preset after the file or name, then `--set`, `--layers`, `--seed`
-    /// (and `--max-memory` set for the process).
-    pub fn resolve(&self) -> anyhow::Result<Preset> {
+    /// The preset after the file or name, then `--set`, `--layers`,
+    /// `--years`, `--seed`, then the clock ([`grime::clock`]); and the
+    /// fields the user pinned (`--max-memory` is set for the process).
+    pub fn resolve(&self) -> anyhow::Result<(Preset, Pins)> {
         if let Some(bytes) = self.max_memory {
             grime::io::limits::set_max_memory(bytes);
+        }
+        let mut pins = Pins::of_keys(self.set.iter().filter_map(|s| Some(s.split_once('=')?.0)));
+        if self.layers.is_some() {
+            pins = pins.union(Pins::of_keys(["rain.layers"]));
         }
         let mut p = match &self.preset {
             None => Preset::default(),
@@ -44,6 +56,7 @@ impl PresetFlags {
             Some(file) => {
                 let text = std::fs::read_to_string(file)
                     .with_context(|| format!("{file}: cannot read preset"))?;
+                pins = pins.union(Pins::in_toml(&text));
                 Preset::from_toml(&text).with_context(|| file.clone())?
             }
         };
@@ -53,10 +66,13 @@ impl PresetFlags {
         if let Some(n) = self.layers {
             p.set(&format!("rain.layers={n}"))?;
         }
+        if let Some(years) = self.years {
+            p.age.years = Some(years);
+        }
         if let Some(seed) = self.seed {
             p.seed = seed;
         }
-        Ok(p)
+        Ok((clock::resolve(&p, pins)?, pins))
     }
 }
 

@@ -35,7 +35,7 @@ pub struct GuiArgs {
 }
 
 pub fn run(args: GuiArgs) -> anyhow::Result<()> {
-    let preset = args.preset.resolve()?;
+    let (preset, _) = args.preset.resolve()?;
     gui::launch(AppOptions {
         image: args.image,
         demo: args.demo,

@@ -5,6 +5,7 @@ mod common;
 #[cfg(feature = "gui")]
 mod gui;
 mod preset;
+mod recipe;
 mod run;
 mod scene;
 pub mod signals;
@@ -30,6 +31,8 @@ enum Command {
     Scene(scene::SceneArgs),
     /// Print a preset as commented TOML (start your own from it).
     Preset(preset::PresetArgs),
+    /// Print the recipe stored in an output: preset, seed, version, input hashes.
+    Recipe(recipe::RecipeArgs),
     /// Open the interactive editor (region, source lines, perspective, live preview).
     #[cfg(feature = "gui")]
     Gui(gui::GuiArgs),
@@ -47,6 +50,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
             batch::run(args)
         }
         Command::Preset(args) => preset::run(args),
+        Command::Recipe(args) => recipe::run(args),
         Command::Scene(args) => scene::run(args),
         #[cfg(feature = "gui")]
         Command::Gui(args) => gui::run(args),

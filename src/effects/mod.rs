@@ -216,6 +216,11 @@ impl Context<'_> {
 pub struct Products {
     /// The rain's wall state after the last rainfall.
     pub rain: Option<Arc<rain::RainOutput>>,
+    /// Rainfall counts after which the rain should also keep the wall (a
+    /// time-lapse's frames; [`rain::simulate_keeping`]).
+    pub keep_rain_at: Vec<u32>,
+    /// The walls it kept, in rainfall order.
+    pub rain_kept: Vec<Arc<rain::Kept>>,
 }
 
 /// What one effect made.
@@ -246,7 +251,8 @@ pub enum Stats {
 /// The effects whose output made with `old` is stale for `new`: those with
 /// a changed field among their [`Effect::params`] that they cannot restyle,
 /// and those that read a stale one's products. A changed field that no
-/// effect lists makes every effect stale.
+/// effect lists makes every effect stale; the clock's `age` fields make
+/// none (they act through the fields [`crate::clock`] sets).
 pub fn stale(old: &Preset, new: &Preset) -> BTreeSet<Effect> {
     let (Ok(a), Ok(b)) = (toml::Value::try_from(old), toml::Value::try_from(new)) else {
         return Effect::ALL.into_iter().collect();
@@ -254,7 +260,8 @@ pub fn stale(old: &Preset, new: &Preset) -> BTreeSet<Effect> {
     let mut changed = Vec::new();
     crate::preset::diff_paths(&a, &b, String::new(), &mut changed);
     let mut out = BTreeSet::new();
-    for path in &changed {
+    // The clock's fields act through the fields it sets (crate::clock).
+    for path in changed.iter().filter(|p| !covers("age", p)) {
         let owners: Vec<Effect> = Effect::ALL
             .into_iter()
             .filter(|e| e.params().iter().any(|p| covers(p, path)))

@@ -67,7 +67,14 @@ pub(super) fn rain(
         source_lines,
         release,
     };
-    let out = rain::simulate(&input, r, preset.seed, &progress.span(0.0, 0.87))?;
+    let (out, kept) = rain::simulate_keeping(
+        &input,
+        r,
+        preset.seed,
+        &progress.span(0.0, 0.87),
+        &products.keep_rain_at,
+    )?;
+    products.rain_kept = kept.into_iter().map(Arc::new).collect();
     let top_edge = r.top_edge.then(|| top_rows(ctx.region));
     let fade = rain::fall::fade(
         grid.width,

@@ -17,9 +17,18 @@ use crate::stack::Stack;
 /// # Errors
 /// [`crate::Error::UnknownFormat`], I/O and encoding errors.
 pub fn save(stack: &Stack, path: &Path) -> Result<()> {
+    save_with(stack, path, None)
+}
+
+/// [`save`], with `recipe` stored in the file ([`crate::recipe`]).
+///
+/// # Errors
+/// As [`save`].
+pub fn save_with(stack: &Stack, path: &Path, recipe: Option<&str>) -> Result<()> {
+    let xmp = recipe.map(crate::recipe::embed::xmp);
     match Format::from_path(path)? {
-        Format::Psd => psd::write(stack, path),
-        Format::Ora => ora::write(stack, path),
-        _ => io::save_image(&stack.composite(), stack.base.icc.as_deref(), path),
+        Format::Psd => psd::write_with(stack, path, xmp.as_deref().map(str::as_bytes)),
+        Format::Ora => ora::write_with(stack, path, recipe),
+        _ => io::save_image_with(&stack.composite(), stack.base.icc.as_deref(), path, recipe),
     }
 }

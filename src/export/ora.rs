@@ -58,6 +58,18 @@ struct OraLayer {
 /// [`Error::Io`] when the folder is missing or the file cannot be written,
 /// [`Error::Encode`] if a PNG cannot be encoded.
 pub fn write(stack: &Stack, path: &Path) -> Result<()> {
+    write_with(stack, path, None)
+}
+
+/// The archive entry holding the recipe ([`write_with`]).
+pub const RECIPE_FILE: &str = "recipe.toml";
+
+/// [`write`], with the recipe as [`RECIPE_FILE`] in the archive, named by
+/// `stack.xml`'s `grime:recipe` attribute.
+///
+/// # Errors
+/// As [`write`].
+pub fn write_with(stack: &Stack, path: &Path, recipe: Option<&str>) -> Result<()> {
     let w = stack.base.width();
     let h = stack.base.height();
     let profile = stack.base.icc.as_deref().unwrap_or(io::icc::srgb());
@@ -125,7 +137,7 @@ pub fn write(stack: &Stack, path: &Path) -> Result<()> {
         || png(&thumb, None, path),
     );
     let (merged_png, thumb_png) = (merged_png?, thumb_png?);
-    let xml = stack_xml(w, h, &layers);
+    let xml = stack_xml(w, h, &layers, recipe.is_some());
 
     io::write_atomic(path, |out| {
         // The zip writer tries to finish the archive when dropped after an
@@ -133,7 +145,7 @@ pub fn write(stack: &Stack, path: &Path) -> Result<()> {
         // failed, `Latch` keeps the error and takes every later write
         // silently, so the first error is the one reported.
         let mut latch = Latch::new(out);
-        let result = write_zip(&mut latch, &xml, &layers, &merged_png, &thumb_png);
+        let result = write_zip(&mut latch, &xml, &layers, &merged_png, &thumb_png, recipe);
         match (latch.error.take(), result) {
             (Some(e), _) => Err(Error::io(path, e)),
             (None, r) => r.map_err(|e| Error::Encode {
@@ -151,6 +163,7 @@ fn write_zip<W: Write + std::io::Seek>(
     layers: &[OraLayer],
     merged_png: &[u8],
     thumb_png: &[u8],
+    recipe: Option<&str>,
 ) -> zip::result::ZipResult<()> {
     let stored = SimpleFileOptions::default().compression_method(CompressionMethod::Stored);
     let deflated = SimpleFileOptions::default().compression_method(CompressionMethod::Deflated);
@@ -168,6 +181,10 @@ fn write_zip<W: Write + std::io::Seek>(
     zip.write_all(merged_png)?;
     zip.start_file("Thumbnails/thumbnail.png", stored)?;
     zip.write_all(thumb_png)?;
+    if let Some(recipe) = recipe {
+        zip.start_file(RECIPE_FILE, deflated)?;
+        zip.write_all(recipe.as_bytes())?;
+    }
     zip.finish()?;
     Ok(())
 }
@@ -284,11 +301,17 @@ fn png(img: &DynamicImage, icc: Option<&[u8]>, path: &Path) -> Result<Vec<u8>> {
 }
 
 /// `stack.xml`: layers top first, as the specification asks.
-fn stack_xml(w: u32, h: u32, bottom_first: &[OraLayer]) -> String {
+fn stack_xml(w: u32, h: u32, bottom_first: &[OraLayer], recipe: bool) -> String {
     let mut s = String::new();
     s.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let recipe = match recipe {
+        true => {
+            format!(" xmlns:grime=\"https://grime.invalid/ns/1.0/\" grime:recipe=\"{RECIPE_FILE}\"")
+        }
+        false => String::new(),
+    };
     s.push_str(&format!(
-        "<image version=\"0.0.5\" w=\"{w}\" h=\"{h}\" xres=\"72\" yres=\"72\">\n"
+        "<image version=\"0.0.5\" w=\"{w}\" h=\"{h}\" xres=\"72\" yres=\"72\"{recipe}>\n"
     ));
     s.push_str("  <stack>\n");
     for l in bottom_first.iter().rev() {
@@ -374,7 +397,7 @@ mod tests {
                 data: Default::default(),
                 room,
             });
-            let r = write_zip(&mut latch, "<image/>", &layers, &[1; 100], &[2; 10]);
+            let r = write_zip(&mut latch, "<image/>", &layers, &[1; 100], &[2; 10], None);
             // The zip writer saw only successes after the failure, so its
             // drop has nothing to print; the first error is kept.
             assert!(r.is_ok(), "{r:?}");

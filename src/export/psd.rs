@@ -55,7 +55,18 @@ pub const REGION_LAYER: &str = "region";
 /// [`Error::Io`] when the folder is missing or the file cannot be written;
 /// [`Error::Encode`] when the image is larger than PSD allows.
 pub fn write(stack: &Stack, path: &Path) -> Result<()> {
-    let doc = Document::build(stack, path)?;
+    write_with(stack, path, None)
+}
+
+/// Image resource of XMP metadata, where [`write_with`] puts the recipe.
+pub const XMP_RESOURCE: u16 = 1060;
+
+/// [`write`], with an XMP packet (the recipe) as image resource 1060.
+///
+/// # Errors
+/// As [`write`].
+pub fn write_with(stack: &Stack, path: &Path, xmp: Option<&[u8]>) -> Result<()> {
+    let doc = Document::build(stack, path, xmp)?;
     io::write_atomic(path, |out| {
         doc.write_to(out).map_err(|e| Error::io(path, e))
     })
@@ -66,7 +77,7 @@ pub fn write(stack: &Stack, path: &Path) -> Result<()> {
 /// # Errors
 /// [`Error::Encode`] when the image is larger than PSD allows.
 pub fn to_vec(stack: &Stack) -> Result<Vec<u8>> {
-    let doc = Document::build(stack, Path::new("<memory>"))?;
+    let doc = Document::build(stack, Path::new("<memory>"), None)?;
     let mut out = Vec::with_capacity(doc.len() as usize);
     doc.write_to(&mut out)
         .map_err(|e| Error::io("<memory>", e))?;
@@ -149,7 +160,7 @@ struct Document {
 }
 
 impl Document {
-    fn build(stack: &Stack, path: &Path) -> Result<Document> {
+    fn build(stack: &Stack, path: &Path, xmp: Option<&[u8]>) -> Result<Document> {
         let photo = stack.base.image();
         let (w, h) = (photo.width(), photo.height());
         if w > MAX_SIDE || h > MAX_SIDE || w == 0 || h == 0 {
@@ -237,14 +248,15 @@ impl Document {
         let mut resources = Vec::new();
         // Without a profile Krita opens a 16-bit PSD as linear light: say
         // sRGB (issue 13, item 17).
-        {
-            let icc = stack.base.icc.as_deref().unwrap_or(io::icc::srgb());
+        let icc = stack.base.icc.as_deref().unwrap_or(io::icc::srgb());
+        for (id, data) in [(1039, Some(icc)), (XMP_RESOURCE, xmp)] {
+            let Some(data) = data else { continue };
             resources.extend_from_slice(b"8BIM");
-            resources.put_u16(1039); // ICC profile
+            resources.put_u16(id); // 1039: ICC profile
             resources.put_u16(0); // empty name, padded to even
-            resources.put_u32(len_u32(icc.len() as u64, path)?);
-            resources.extend_from_slice(icc);
-            if icc.len() % 2 == 1 {
+            resources.put_u32(len_u32(data.len() as u64, path)?);
+            resources.extend_from_slice(data);
+            if data.len() % 2 == 1 {
                 resources.push(0);
             }
         }

@@ -134,7 +134,7 @@ impl GrimeApp {
 
     /// The current preview composite (proxy-sized), if one is ready.
     pub fn preview_image(&self) -> Option<&ColorImage> {
-        self.ctl.preview().current().map(|p| &*p.image)
+        self.ctl.preview().shown_image().map(|i| &**i)
     }
 
     /// True while the canvas shows the quick pass of a simulation and the
@@ -294,12 +294,18 @@ impl GrimeApp {
                 );
             }
         }
+        if self.ctl.preview().is_playing() {
+            self.ctl.preview_mut().tick(Duration::from_millis(200));
+            self.ctx.request_repaint_after(Duration::from_millis(50));
+        }
         if let Some(fresh) = self.ctl.preview_mut().take_fresh() {
-            // The texture shares the image (no copy).
-            match (fresh, &mut self.textures.preview) {
-                (Some(p), Some(t)) => t.set(Arc::clone(&p.image), TextureOptions::LINEAR),
-                (Some(p), None) => {
-                    let image = Arc::clone(&p.image);
+            // The texture shares the image (no copy); while scrubbing the
+            // ages, the frame's.
+            let fresh = fresh.map(|_| ());
+            let shown = self.ctl.preview().shown_image().cloned();
+            match (fresh.and(shown), &mut self.textures.preview) {
+                (Some(image), Some(t)) => t.set(image, TextureOptions::LINEAR),
+                (Some(image), None) => {
                     let tex = self
                         .ctx
                         .load_texture("preview", image, TextureOptions::LINEAR);

@@ -36,6 +36,8 @@ pub enum PromptKind {
     SavePreset,
     /// Where to export the result (PNG, JPEG, TIFF, WebP, PSD, ORA).
     Export,
+    /// Where to export the time-lapse (GIF, animated PNG).
+    ExportTimelapse,
 }
 
 impl PromptKind {
@@ -48,6 +50,7 @@ impl PromptKind {
             PromptKind::LoadPreset => "Load preset",
             PromptKind::SavePreset => "Save preset",
             PromptKind::Export => "Export",
+            PromptKind::ExportTimelapse => "Export time-lapse",
         }
     }
 
@@ -57,7 +60,7 @@ impl PromptKind {
             PromptKind::OpenImage | PromptKind::OpenProject => "Open",
             PromptKind::SaveProject | PromptKind::SavePreset => "Save",
             PromptKind::LoadPreset => "Load",
-            PromptKind::Export => "Export now",
+            PromptKind::Export | PromptKind::ExportTimelapse => "Export now",
         }
     }
 
@@ -65,7 +68,10 @@ impl PromptKind {
     pub fn saves(self) -> bool {
         matches!(
             self,
-            PromptKind::SaveProject | PromptKind::SavePreset | PromptKind::Export
+            PromptKind::SaveProject
+                | PromptKind::SavePreset
+                | PromptKind::Export
+                | PromptKind::ExportTimelapse
         )
     }
 
@@ -79,6 +85,7 @@ impl PromptKind {
                 "Image or layered document",
                 &["png", "jpg", "tif", "webp", "psd", "ora"],
             ),
+            PromptKind::ExportTimelapse => ("Animation", &["gif", "png"]),
         }
     }
 
@@ -103,6 +110,7 @@ impl PromptKind {
             PromptKind::SaveProject => format!("{stem}.grime.json"),
             PromptKind::SavePreset => format!("{stem}.toml"),
             PromptKind::Export => format!("{stem}-aged.png"),
+            PromptKind::ExportTimelapse => format!("{stem}-ageing.gif"),
         };
         dir.join(file).display().to_string()
     }
@@ -116,6 +124,7 @@ impl PromptKind {
             PromptKind::LoadPreset => Command::LoadPreset(path),
             PromptKind::SavePreset => Command::SavePreset(path),
             PromptKind::Export => Command::Export(path),
+            PromptKind::ExportTimelapse => Command::ExportTimelapse(path),
         }
     }
 }
@@ -141,8 +150,15 @@ pub enum Command {
     SavePreset(PathBuf),
     /// Export at full resolution.
     Export(PathBuf),
+    /// Export the time-lapse (year 0 to the preset's age) at full resolution.
+    ExportTimelapse(PathBuf),
     /// Stop a running export.
     CancelExport,
+    /// Show the preview at this age (years); `None` = the preset's age. No
+    /// simulation: the frames of the last one are shown.
+    ShowAge(Option<u32>),
+    /// Start or stop playing the ages.
+    PlayAges(bool),
     /// A brush or eraser stroke starts.
     StrokeBegin,
     /// The stroke continues from one photo point to the next.

@@ -357,7 +357,10 @@ impl Controller {
                 );
                 self.file(FileJob::SavePreset(text, path));
             }
-            Command::Export(path) => self.start_export(path),
+            Command::Export(path) => self.start_export(path, false),
+            Command::ExportTimelapse(path) => self.start_export(path, true),
+            Command::ShowAge(years) => self.preview.show_age(years),
+            Command::PlayAges(on) => self.preview.play(on),
             Command::CancelExport => {
                 self.export.cancel();
                 self.info("Export cancelled");
@@ -442,7 +445,12 @@ impl Controller {
             Command::SetParam { path, value, merge } => {
                 let Some(l) = &mut self.loaded else { return };
                 let mut p = l.doc.preset.clone();
-                match p.set(&format!("{path}={value}")) {
+                // The clock's fields set the effects' counts (crate::clock).
+                let mut set = p.set(&format!("{path}={value}"));
+                if set.is_ok() && path.starts_with("age.") {
+                    set = crate::clock::resolve(&p, crate::clock::Pins::none()).map(|r| p = r);
+                }
+                match set {
                     Ok(()) => {
                         p.rain.source_lines.clear();
                         if p != l.doc.preset {
@@ -563,11 +571,14 @@ impl Controller {
         }
     }
 
-    fn start_export(&mut self, path: PathBuf) {
+    fn start_export(&mut self, path: PathBuf, timelapse: bool) {
         let Some(l) = &self.loaded else {
             return self.error("nothing to export: open an image first");
         };
-        match self.export.start(l, path) {
+        if timelapse && l.doc.preset.age.years.is_none() {
+            return self.error("a time-lapse needs an age: set Age (years) first");
+        }
+        match self.export.start(l, path, timelapse) {
             Ok(note) => self.info(note),
             Err(e) => self.error(e),
         }

@@ -33,7 +33,7 @@ impl Exporter {
     ///
     /// # Errors
     /// The message for the status bar when no job can be made.
-    pub fn start(&mut self, l: &Loaded, path: PathBuf) -> Result<String, String> {
+    pub fn start(&mut self, l: &Loaded, path: PathBuf, timelapse: bool) -> Result<String, String> {
         let scene = Scene::shared(Arc::clone(&l.photo), Some(Arc::new(l.doc.mask.clone())))
             .and_then(|s| s.with_quad(l.doc.quad))
             .map_err(|e| format!("cannot export: {e}"))?;
@@ -44,6 +44,7 @@ impl Exporter {
             preset: l.doc.run_preset(),
             layers: l.doc.layers.clone(),
             path: path.clone(),
+            timelapse,
         });
         self.running = Some(path);
         Ok(note)

@@ -97,7 +97,7 @@ pub fn run(job: FileJob) -> Result<FileDone, String> {
             .map_err(|e| format!("cannot save project: {e}")),
         FileJob::LoadPreset(path) => std::fs::read_to_string(&path)
             .map_err(|e| crate::Error::io(&path, e).to_string())
-            .and_then(|t| Preset::from_toml(&t).map_err(|e| format!("{}: {e}", path.display())))
+            .and_then(|t| crate::clock::load(&t).map_err(|e| format!("{}: {e}", path.display())))
             .map(|p| FileDone::Preset(Box::new(p), path))
             .map_err(|e| format!("cannot load preset: {e}")),
         FileJob::SavePreset(text, path) => io::write_atomic(&path, |out| {

@@ -144,6 +144,9 @@ pub fn bar(ui: &mut Ui, ctl: &Controller, out: &mut Vec<Command>) {
             if enabled(ui, has_doc, "Export image…").clicked() {
                 out.push(Command::Prompt(PromptKind::Export));
             }
+            if enabled(ui, has_doc, "Export time-lapse…").clicked() {
+                out.push(Command::Prompt(PromptKind::ExportTimelapse));
+            }
             ui.separator();
             if ui.button("Quit").clicked() {
                 out.push(Command::Quit);

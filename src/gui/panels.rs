@@ -34,6 +34,7 @@ pub fn side(ui: &mut Ui, ctl: &Controller, out: &mut Vec<Command>) {
         .show(ui, |ui| {
             ui.add_space(4.0);
             ui.heading("Time");
+            super::ages::panel(ui, ctl, out);
             time(ui, preset, out);
             ui.separator();
             ui.heading("Layers");

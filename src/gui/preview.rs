@@ -6,6 +6,8 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
+use eframe::egui;
+
 use crate::preset::Preset;
 
 use super::controller::Loaded;
@@ -60,6 +62,10 @@ pub struct Scheduler {
     sim_ms: Option<f64>,
     /// Simulations started so far.
     started: u64,
+    /// The age shown ("Age (years)"), `None` = the preset's.
+    age_view: Option<u32>,
+    /// Playing the ages: when the shown one last advanced.
+    playing: Option<Instant>,
 }
 
 impl Scheduler {
@@ -85,6 +91,8 @@ impl Scheduler {
             refined_ms: None,
             sim_ms: None,
             started: 0,
+            age_view: None,
+            playing: None,
         }
     }
 
@@ -157,6 +165,65 @@ impl Scheduler {
     /// Simulation time of the last preview, ms.
     pub fn sim_ms(&self) -> Option<f64> {
         self.sim_ms
+    }
+
+    /// Shows the preview at `years` (a frame of the last simulation, no new
+    /// one), or at the preset's age.
+    pub fn show_age(&mut self, years: Option<u32>) {
+        if self.age_view != years {
+            self.age_view = years;
+            self.fresh = true;
+        }
+    }
+
+    /// The age shown, `None` = the preset's.
+    pub fn age_view(&self) -> Option<u32> {
+        self.age_view
+    }
+
+    /// Starts (from year 0 when at the end) or stops playing the ages.
+    pub fn play(&mut self, on: bool) {
+        self.playing = on.then(Instant::now);
+        if on && self.age_view.is_none() {
+            self.show_age(Some(0));
+        }
+    }
+
+    /// True while the ages play.
+    pub fn is_playing(&self) -> bool {
+        self.playing.is_some()
+    }
+
+    /// While playing, shows the next age every `step`; stops at the last.
+    pub fn tick(&mut self, step: std::time::Duration) {
+        let Some(since) = self.playing else { return };
+        if since.elapsed() < step {
+            return;
+        }
+        let last = self
+            .current
+            .as_ref()
+            .map_or(0, |p| p.ages.len() as u32)
+            .saturating_sub(1);
+        match self.age_view {
+            Some(y) if y + 1 < last => self.show_age(Some(y + 1)),
+            _ => {
+                self.show_age(None);
+                self.playing = None;
+                return;
+            }
+        }
+        self.playing = Some(Instant::now());
+    }
+
+    /// The image to show: the frame of the age shown, or the preview.
+    pub fn shown_image(&self) -> Option<&std::sync::Arc<egui::ColorImage>> {
+        let p = self.current.as_ref()?;
+        Some(
+            self.age_view
+                .and_then(|y| super::ages::at(&p.ages, y))
+                .unwrap_or(&p.image),
+        )
     }
 
     /// Takes the worker's newest result, if any.

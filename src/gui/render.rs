@@ -72,6 +72,9 @@ pub struct Preview {
     /// "NAME (kept)"), then "composite" and "image" (conversion for the
     /// texture), ms.
     pub timings: Vec<Timing>,
+    /// With the clock on, the composite at each year up to the preset's
+    /// age ([`super::ages`]); empty otherwise and for a quick pass.
+    pub ages: Vec<super::ages::Frame>,
 }
 
 /// The quick pass's preset for a proxy of `width` x `height`: the same
@@ -156,7 +159,18 @@ fn pass(
     quick: bool,
     progress: &Progress,
 ) -> Result<Preview> {
-    let out = pipeline::run_cached(&job.scene, preset, progress, cache)?;
+    // With the clock on, the full pass also makes every year's frame (a
+    // run of its own: the cache's rain would not have kept their walls).
+    let (out, ages) = match (quick, preset.age.years) {
+        (false, Some(_)) => {
+            *cache = Cache::default();
+            super::ages::run(&job.scene, preset, &job.layers, progress)?
+        }
+        _ => (
+            pipeline::run_cached(&job.scene, preset, progress, cache)?,
+            Vec::new(),
+        ),
+    };
     let original = out
         .stack
         .layers
@@ -170,6 +184,7 @@ fn pass(
         image: Arc::default(),
         quick,
         timings: out.report.timings,
+        ages,
     };
     progress.update("composite", 1.0);
     let [composite, image] = preview.restyle_timed(&job.preset, &job.layers);
@@ -272,6 +287,8 @@ pub struct ExportJob {
     pub layers: BTreeMap<String, LayerSetting>,
     /// Output file; its extension picks the format.
     pub path: PathBuf,
+    /// Write the time-lapse (year 0 to the preset's age) to `path` instead.
+    pub timelapse: bool,
 }
 
 /// What an export wrote.
@@ -307,9 +324,20 @@ pub fn export(job: ExportJob, progress: &Progress) -> Result<Exported> {
         sources: age::SourcesMode::Auto,
         wall_width_m: None,
     };
-    let outputs = age::Outputs {
-        images: vec![job.path.clone()],
-        ..age::Outputs::default()
+    let outputs = match job.timelapse {
+        false => age::Outputs {
+            images: vec![job.path.clone()],
+            ..age::Outputs::default()
+        },
+        true => {
+            let mut t = crate::timelapse::Timelapse::new(&job.path);
+            t.pins = crate::clock::pins_of(&job.preset);
+            t.caption = true;
+            age::Outputs {
+                timelapse: Some(t),
+                ..age::Outputs::default()
+            }
+        }
     };
     let adjust = |stack: &mut Stack| apply_layer_settings(&job.layers, stack);
     let out = age::age_adjusted(&inputs, &job.preset, &outputs, progress, &adjust)?;

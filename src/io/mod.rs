@@ -453,8 +453,33 @@ pub fn is_16bit(img: &DynamicImage) -> bool {
 /// # Errors
 /// As [`write_atomic`] and [`encode`].
 pub fn save_image(img: &DynamicImage, icc: Option<&[u8]>, path: &Path) -> Result<()> {
+    save_image_with(img, icc, path, None)
+}
+
+/// [`save_image`], with a grime recipe stored in the file
+/// ([`crate::recipe::embed`]).
+///
+/// # Errors
+/// As [`save_image`].
+pub fn save_image_with(
+    img: &DynamicImage,
+    icc: Option<&[u8]>,
+    path: &Path,
+    recipe: Option<&str>,
+) -> Result<()> {
     let format = Format::from_path(path)?;
-    write_atomic(path, |out| encode(img, icc, format, path, out))
+    let Some(recipe) = recipe else {
+        return write_atomic(path, |out| encode(img, icc, format, path, out));
+    };
+    let mut bytes = Vec::new();
+    encode(img, icc, format, path, &mut bytes)?;
+    crate::recipe::embed::into(format, &mut bytes, recipe).map_err(|reason| Error::Encode {
+        path: path.to_path_buf(),
+        reason: format!("cannot store the recipe: {reason}"),
+    })?;
+    write_atomic(path, |out| {
+        out.write_all(&bytes).map_err(|e| Error::io(path, e))
+    })
 }
 
 #[cfg(test)]

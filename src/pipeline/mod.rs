@@ -9,6 +9,7 @@
 //! preset it was made with, so a later run re-simulates only the effects
 //! whose fields changed ([`crate::effects::stale`]).
 
+mod frames;
 mod report;
 mod scene;
 mod site;
@@ -26,6 +27,7 @@ use crate::preset::Preset;
 use crate::progress::Progress;
 use crate::stack::Stack;
 
+pub use frames::run_frames;
 pub use report::{GridReport, LayerReport, Report, Size, Timing};
 pub use scene::Scene;
 pub use site::{ASSUMED_WALL_WIDTH_M, Site};

@@ -6,10 +6,12 @@
 //! same table documents each field (`grime preset default`) and gives the GUI
 //! its slider ranges and tooltips, so the three cannot drift apart.
 
+mod age;
 mod diff;
 mod gammaton;
 mod params;
 
+pub use age::AgeParams;
 pub use diff::diff_paths;
 pub use gammaton::{
     GammaSource, GammatonParams, MAX_SUBSTANCES, Rule, RuleKind, SourceKind, Stop, Substance,
@@ -26,6 +28,8 @@ use crate::error::{Error, Result};
 pub struct Preset {
     /// Master seed; every random stream is derived from it.
     pub seed: u64,
+    /// The one clock: age in years and each effect's rate per year.
+    pub age: AgeParams,
     /// Simulation grid.
     pub sim: SimParams,
     /// Rain streaks (Chang et al. eqs. 1-17).
@@ -44,6 +48,7 @@ impl Default for Preset {
     fn default() -> Self {
         Preset {
             seed: 1,
+            age: AgeParams::default(),
             sim: SimParams::default(),
             rain: RainParams::default(),
             stain: StainParams::default(),
@@ -426,7 +431,7 @@ impl Default for DustParams {
     fn default() -> Self {
         DustParams {
             enabled: true,
-            days: 3650,
+            days: 5475,
             environment: DustEnvironment::LowActivity,
             film_segments: Vec::new(),
             mask_segments: Vec::new(),
@@ -443,7 +448,7 @@ impl Default for DustParams {
             theta_i: 45.0,
             film_opacity: 1.0,
             granule_opacity: 0.5,
-            open_wall: 0.04,
+            open_wall: 0.02,
             ledge_top_m: 0.06,
         }
     }
@@ -590,6 +595,9 @@ impl Preset {
             .and_then(|mut t| t.remove("v"))
             .unwrap_or_else(|| toml::Value::String(raw.to_string()));
         let mut value = toml::Value::try_from(&*self).map_err(|e| Error::Preset(e.to_string()))?;
+        if param(key).is_some() {
+            insert_missing(&mut value, key);
+        }
         let slot = lookup_mut(&mut value, key).ok_or_else(|| {
             Error::Preset(format!(
                 "--set: unknown field {key:?}; see `grime preset default`"
@@ -632,6 +640,8 @@ impl Preset {
         let toml::Value::Table(root) = &value else {
             return out;
         };
+        let defaults = toml::Value::try_from(Preset::default())
+            .unwrap_or(toml::Value::Table(Default::default()));
         // Top-level scalars first, then one [section] per table.
         for (k, v) in root.iter().filter(|(_, v)| !v.is_table()) {
             push_field(&mut out, k, k, v);
@@ -640,8 +650,29 @@ impl Preset {
             out.push_str(&format!("\n[{section}]\n"));
             if let toml::Value::Table(t) = v {
                 for (k, v) in t {
-                    push_field(&mut out, &format!("{section}.{k}"), k, v);
+                    let path = format!("{section}.{k}");
+                    push_field(&mut out, &path, k, v);
+                    // A count the clock sets, at the value it would have
+                    // anyway (the clock's at this age, or the default), is
+                    // written commented out: written, it would pin the
+                    // count against `age.years` (crate::clock).
+                    let default = defaults.get(section).and_then(|d| d.get(k));
+                    let free = crate::clock::FIELDS
+                        .contains(&path.as_str())
+                        .then(|| {
+                            crate::clock::free_value(self, &path)
+                                .or(default.and_then(toml::Value::as_integer))
+                        })
+                        .flatten();
+                    if free.is_some() && free == v.as_integer() {
+                        let line = format!("{k} = {}\n", toml_literal(v));
+                        out.truncate(out.len() - line.len());
+                        out.push_str(&format!(
+                            "# (left to age.years when that is set; uncomment to keep it)\n# {line}"
+                        ));
+                    }
                 }
+                push_unset(&mut out, section, t);
             }
         }
         out
@@ -669,6 +700,24 @@ fn push_field(out: &mut String, path: &str, key: &str, v: &toml::Value) {
         out.push_str(&format!("# {}{sym}.{range}\n", spec.doc));
     }
     out.push_str(&format!("{key} = {}\n", toml_literal(v)));
+}
+
+/// Documents the fields of `section` that are unset (optional fields, such
+/// as `age.years`), as commented-out lines.
+fn push_unset(out: &mut String, section: &str, table: &toml::Table) {
+    let prefix = format!("{section}.");
+    for spec in PARAMS {
+        let Some(key) = spec.path.strip_prefix(&prefix) else {
+            continue;
+        };
+        if !key.contains('.') && !table.contains_key(key) {
+            let range = format!(" Range {} ..= {}.", spec.min, spec.max);
+            out.push_str(&format!(
+                "# {}.{range} Unset by default.\n# {key} = (a number)\n",
+                spec.doc
+            ));
+        }
+    }
 }
 
 /// Every value at `keys` below `v`; arrays fan out (each element is looked
@@ -703,6 +752,18 @@ fn toml_literal(v: &toml::Value) -> String {
             format!("[{}]", items.join(", "))
         }
         other => other.to_string(),
+    }
+}
+
+/// Makes room for an optional field that is unset (so absent from the
+/// serialised preset), e.g. `age.years`, so `--set` can give it a value.
+fn insert_missing(v: &mut toml::Value, path: &str) {
+    let Some((parent, key)) = path.rsplit_once('.') else {
+        return;
+    };
+    if let Some(toml::Value::Table(t)) = lookup_mut(v, parent) {
+        t.entry(key)
+            .or_insert_with(|| toml::Value::String(String::new()));
     }
 }
 

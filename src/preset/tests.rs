@@ -126,3 +126,27 @@ fn array_elements_and_custom_segments_are_checked() {
     );
     assert!(Preset::default().set("moss.color=purple").is_err());
 }
+
+#[test]
+fn a_dumped_preset_leaves_the_clock_free_and_reads_back_the_same() {
+    let text = Preset::default().to_commented_toml();
+    assert!(text.contains("\n# layers = 12\n"), "{text}");
+    assert!(text.contains("\nr = 100.0\n"), "other fields stay: {text}");
+    assert_eq!(Preset::from_toml(&text).unwrap(), Preset::default());
+    assert_eq!(
+        crate::clock::Pins::in_toml(&text),
+        crate::clock::Pins::none()
+    );
+    // At 30 years, the clock's own counts are left free; a count set over
+    // it is written, so it stays pinned.
+    let mut p = crate::clock::at(&Preset::default(), 30, crate::clock::Pins::none()).unwrap();
+    p.dust.days = 5;
+    let text = p.to_commented_toml();
+    assert!(
+        text.contains("\n# layers = 24\n") && text.contains("\ndays = 5\n"),
+        "{text}"
+    );
+    let pins = crate::clock::Pins::in_toml(&text);
+    assert!(pins.pins("dust.days") && !pins.pins("rain.layers"));
+    assert_eq!(crate::clock::load(&text).unwrap(), p);
+}

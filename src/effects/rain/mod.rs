@@ -205,6 +205,23 @@ pub fn simulate(
     seed: u64,
     progress: &Progress,
 ) -> Result<RainOutput> {
+    Ok(simulate_keeping(input, p, seed, progress, &[])?.0)
+}
+
+/// [`simulate`], also keeping the wall after each rainfall count in `keep`
+/// (a time-lapse's frames): each kept state, with [`RainOutput::prefix`],
+/// is the output of a run with that many rainfalls. A kept count begins
+/// its next rainfall in a pass of its own, which gives the same numbers.
+///
+/// # Errors
+/// As [`simulate`].
+pub fn simulate_keeping(
+    input: &RainInput,
+    p: &RainParams,
+    seed: u64,
+    progress: &Progress,
+    keep: &[u32],
+) -> Result<(RainOutput, Vec<Kept>)> {
     let (width, height) = (input.luma.width(), input.luma.height());
     Cost::of(p, width, height).check()?;
     let mut wall = Wall::new(input.luma, input.region);
@@ -245,6 +262,10 @@ pub fn simulate(
     // Per droplet: (position along the sources, mass), carried between layers.
     let mut starts: Vec<(f32, f32)> = vec![(0.0, 0.0); n];
     let mut layers: Vec<RainLayer> = Vec::with_capacity(p.layers as usize);
+    let mut kept = Vec::new();
+    if keep.contains(&0) {
+        kept.push(Kept::of(&wall, 0));
+    }
 
     for layer in 0..p.layers {
         if layer == 0 {
@@ -301,7 +322,8 @@ pub fn simulate(
             // After the last round, the next rainfall begins in the same pass.
             let last = round + 1 == rounds;
             let next = layer + 1;
-            let begins_next = last && next < p.layers;
+            let kept_here = keep.contains(&next);
+            let begins_next = last && next < p.layers && !kept_here;
             let noise = begins_next
                 .then(|| grime_noise(&wall, p, seed, next))
                 .flatten();
@@ -325,18 +347,65 @@ pub fn simulate(
             stats,
             paths,
         });
+        if keep.contains(&(layer + 1)) {
+            kept.push(Kept::of(&wall, layer + 1));
+            if layer + 1 < p.layers {
+                let noise = grime_noise(&wall, p, seed, layer + 1);
+                let begin = Begin::new(p, seed, layer + 1, &wall, noise.as_ref());
+                wall.columns(None, |mut col| begin.column(&mut col));
+            }
+        }
     }
     progress.update("rain", 1.0);
     // The outputs go into buffers the wall no longer needs: fresh ones cost
     // page faults.
     let [water, dirt, roughness] =
         [&mut wall.carry, &mut wall.baseline, &mut wall.inside].map(std::mem::take);
-    Ok(RainOutput {
+    let out = RainOutput {
         layers,
         water: unpad(&wall, |i| wall.w[i], water),
         dirt: unpad(&wall, |i| wall.d[i], dirt),
         roughness_y: unpad(&wall, |i| wall.roughness(i).1, roughness),
-    })
+    };
+    Ok((out, kept))
+}
+
+/// The wall after some rainfalls of a longer run ([`simulate_keeping`]).
+#[derive(Debug, Clone)]
+pub struct Kept {
+    /// Rainfalls so far.
+    pub rainfalls: u32,
+    /// Wall water, dirt and roughness then (as in [`RainOutput`]).
+    pub water: RowMajor<f32>,
+    /// Wall dirt D.
+    pub dirt: RowMajor<f32>,
+    /// Vertical roughness M_y.
+    pub roughness_y: RowMajor<f32>,
+}
+
+impl Kept {
+    fn of(wall: &Wall, rainfalls: u32) -> Kept {
+        Kept {
+            rainfalls,
+            water: unpad(wall, |i| wall.w[i], Vec::new()),
+            dirt: unpad(wall, |i| wall.d[i], Vec::new()),
+            roughness_y: unpad(wall, |i| wall.roughness(i).1, Vec::new()),
+        }
+    }
+}
+
+impl RainOutput {
+    /// The output of a run with `kept.rainfalls` rainfalls: this run's first
+    /// layers (each rainfall depends only on those before it) and the wall
+    /// kept then.
+    pub fn prefix(&self, kept: &Kept) -> RainOutput {
+        RainOutput {
+            layers: self.layers[..kept.rainfalls as usize].to_vec(),
+            water: kept.water.clone(),
+            dirt: kept.dirt.clone(),
+            roughness_y: kept.roughness_y.clone(),
+        }
+    }
 }
 
 impl LayerStats {

@@ -285,3 +285,44 @@ fn droplets_in_several_schedules_are_the_same_at_any_thread_count() {
     assert_eq!(one.layers[0].deposit, two.layers[0].deposit);
     assert_eq!(one.dirt, two.dirt);
 }
+
+#[test]
+fn kept_walls_are_the_shorter_runs() {
+    let (luma, region) = wall_input(64, 96);
+    let input = RainInput {
+        luma: &luma,
+        region: &region,
+        source_lines: vec![],
+        release: Release::UNIFORM,
+    };
+    let p = |layers| RainParams {
+        layers,
+        ..one_layer()
+    };
+    let none = Progress::none();
+    let (full, kept) = simulate_keeping(&input, &p(4), 5, &none, &[0, 2, 4]).unwrap();
+    let alone = simulate(&input, &p(4), 5, &none).unwrap();
+    assert_eq!(
+        (full.water.data(), full.dirt.data()),
+        (alone.water.data(), alone.dirt.data())
+    );
+    assert_eq!(
+        kept.iter().map(|k| k.rainfalls).collect::<Vec<_>>(),
+        [0, 2, 4]
+    );
+    for k in &kept {
+        let short = simulate(&input, &p(k.rainfalls), 5, &none).unwrap();
+        let prefix = full.prefix(k);
+        assert_eq!(
+            prefix.water.data(),
+            short.water.data(),
+            "{} rainfalls",
+            k.rainfalls
+        );
+        assert_eq!(prefix.dirt.data(), short.dirt.data());
+        assert_eq!(prefix.roughness_y.data(), short.roughness_y.data());
+        for (a, b) in prefix.layers.iter().zip(&short.layers) {
+            assert_eq!(a.deposit.data(), b.deposit.data());
+        }
+    }
+}

@@ -1,0 +1,300 @@
+//! The time-lapse: the wall ageing from the photo (year 0) to the run's
+//! age, as an animated GIF, an animated PNG (APNG) or a folder of PNG
+//! frames. The frames come from one run ([`crate::pipeline::run_frames`]):
+//! the rain is simulated once; each frame equals `grime run --years K`.
+
+pub mod caption;
+
+use std::path::{Path, PathBuf};
+
+use image::{DynamicImage, RgbaImage};
+
+use crate::clock::{self, Pins};
+use crate::error::{Error, Result};
+use crate::export;
+use crate::io;
+use crate::pipeline::{self, Outcome, Scene};
+use crate::preset::Preset;
+use crate::progress::Progress;
+use crate::recipe::{Recipe, embed};
+
+/// What a time-lapse is written as, from its path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// `.gif`: 256 colours per frame.
+    Gif,
+    /// `.png` or `.apng`: an animated PNG, exact colours.
+    Apng,
+    /// A folder (a path ending in `/`, without extension, or an existing
+    /// folder): one PNG per frame, `year-005.png`, each the file
+    /// `grime run --years 5 -o …png` writes.
+    Folder,
+}
+
+/// A time-lapse to write alongside a run.
+#[derive(Debug, Clone)]
+pub struct Timelapse {
+    /// Where: a `.gif`, a `.png` (APNG) or a folder.
+    pub path: PathBuf,
+    /// The frames' ages in years, in order; empty = [`default_years`].
+    pub years: Vec<u32>,
+    /// The fields pinned against the clock ([`crate::clock`]), as for the run.
+    pub pins: Pins,
+    /// Write "N years" on each frame.
+    pub caption: bool,
+    /// Longest side of an animation's frames (GIF, APNG); 0 = the photo's.
+    /// Folder frames are always full size.
+    pub max_side: u32,
+    /// How long each frame shows, milliseconds (the last shows 4 times as long).
+    pub frame_ms: u16,
+}
+
+impl Timelapse {
+    /// A time-lapse at `path` with the default frames, no caption.
+    pub fn new(path: impl Into<PathBuf>) -> Timelapse {
+        Timelapse {
+            path: path.into(),
+            years: Vec::new(),
+            pins: Pins::none(),
+            caption: false,
+            max_side: 1024,
+            frame_ms: 250,
+        }
+    }
+
+    /// What the path asks for.
+    ///
+    /// # Errors
+    /// [`Error::UnknownFormat`] for a file that is not `.gif`, `.png` or `.apng`.
+    pub fn kind(&self) -> Result<Kind> {
+        let p = &self.path;
+        let ext = p
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        if p.to_string_lossy().ends_with('/') || p.is_dir() || ext.is_none() {
+            return Ok(Kind::Folder);
+        }
+        match ext.as_deref() {
+            Some("gif") => Ok(Kind::Gif),
+            Some("png" | "apng") => Ok(Kind::Apng),
+            _ => Err(Error::Preset(format!(
+                "--timelapse {}: use a .gif, a .png (animated PNG) or a folder/",
+                p.display()
+            ))),
+        }
+    }
+
+    /// The frame file of `years` in a [`Kind::Folder`] time-lapse.
+    pub fn frame_path(&self, years: u32) -> PathBuf {
+        self.path.join(format!("year-{years:03}.png"))
+    }
+
+    /// The files it writes, for the overwrite guard: its file, or each
+    /// frame's when it is a folder (`run_years` is the run's age).
+    ///
+    /// # Errors
+    /// As [`Timelapse::kind`].
+    pub fn files(&self, run_years: Option<u32>) -> Result<Vec<PathBuf>> {
+        Ok(match self.kind()? {
+            Kind::Folder => self
+                .frame_years(run_years.unwrap_or(0))
+                .into_iter()
+                .map(|y| self.frame_path(y))
+                .collect(),
+            _ => vec![self.path.clone()],
+        })
+    }
+
+    /// The frames' ages for a run `run_years` old.
+    pub fn frame_years(&self, run_years: u32) -> Vec<u32> {
+        match self.years.is_empty() {
+            true => default_years(run_years),
+            false => self.years.clone(),
+        }
+    }
+}
+
+/// The default frames for a run `years` old: every year up to 30 years,
+/// then 31 frames evenly spread; frame 0 is the photo.
+pub fn default_years(years: u32) -> Vec<u32> {
+    let n = years.min(30);
+    let mut out: Vec<u32> = (0..=n)
+        .map(|i| (i as u64 * years as u64).div_ceil(n.max(1) as u64) as u32)
+        .collect();
+    out.dedup();
+    out
+}
+
+/// Parses `--frames 0,5,10,20,30`.
+///
+/// # Errors
+/// [`Error::Preset`] naming the entry that is not a whole number of years.
+pub fn parse_years(text: &str) -> Result<Vec<u32>> {
+    text.split(',')
+        .map(|s| {
+            s.trim().parse().map_err(|_| {
+                Error::Preset(format!(
+                    "--frames: {s:?} is not a whole number of years; e.g. --frames 0,5,10,20,30"
+                ))
+            })
+        })
+        .collect()
+}
+
+/// Runs `scene` at `preset` (the run's age) and writes the time-lapse `t`
+/// of it; returns the run's outcome.
+///
+/// # Errors
+/// [`Error::OutOfRange`] when `preset` has no age or a frame is older than
+/// the run; the pipeline's and the writers' errors.
+pub fn run(
+    scene: &Scene,
+    preset: &Preset,
+    t: &Timelapse,
+    recipe: &Recipe,
+    progress: &Progress,
+) -> Result<Outcome> {
+    let kind = t.kind()?;
+    let run_years = preset.age.years.ok_or_else(|| Error::OutOfRange {
+        field: "age.years".into(),
+        value: "unset".into(),
+        range: "a number of years: a time-lapse needs --years N (or age.years in the preset)"
+            .into(),
+    })?;
+    let years = t.frame_years(run_years);
+    if let Some(&late) = years.iter().find(|&&y| y > run_years) {
+        return Err(Error::OutOfRange {
+            field: "--frames".into(),
+            value: late.to_string(),
+            range: format!("0 ..= {run_years} (the run's --years)"),
+        });
+    }
+    let presets = years
+        .iter()
+        .map(|&y| clock::at(preset, y, t.pins))
+        .collect::<Result<Vec<_>>>()?;
+    if kind == Kind::Folder {
+        std::fs::create_dir_all(&t.path).map_err(|e| Error::io(&t.path, e))?;
+    }
+    let mut frames = Vec::new();
+    let out = pipeline::run_frames(scene, preset, &presets, progress, &mut |i, out| {
+        if kind == Kind::Folder && !t.caption {
+            let text = recipe.with_preset(&presets[i]).to_text();
+            return export::save_with(&out.stack, &t.frame_path(years[i]), Some(&text));
+        }
+        let mut img = out.stack.composite();
+        if kind != Kind::Folder {
+            img = shrink(img, t.max_side);
+        }
+        let mut rgba = img.to_rgba8();
+        if t.caption {
+            caption::draw(&mut rgba, years[i]);
+        }
+        match kind {
+            Kind::Folder => {
+                let text = recipe.with_preset(&presets[i]).to_text();
+                let img = DynamicImage::ImageRgba8(rgba);
+                io::save_image_with(&img, None, &t.frame_path(years[i]), Some(&text))
+            }
+            _ => {
+                frames.push(rgba);
+                Ok(())
+            }
+        }
+    })?;
+    match kind {
+        Kind::Folder => Ok(out),
+        Kind::Gif => write_gif(&t.path, &frames, t.frame_ms).map(|_| out),
+        Kind::Apng => write_apng(&t.path, &frames, t.frame_ms, &recipe.to_text()).map(|_| out),
+    }
+}
+
+/// `img` with its longest side at most `max_side` (0 = as is).
+fn shrink(img: DynamicImage, max_side: u32) -> DynamicImage {
+    let (w, h) = (img.width(), img.height());
+    if max_side == 0 || w.max(h) <= max_side {
+        return img;
+    }
+    img.resize(max_side, max_side, image::imageops::FilterType::Triangle)
+}
+
+/// Each frame's delay; the last holds longer.
+fn delay(i: usize, n: usize, frame_ms: u16) -> u16 {
+    if i + 1 == n {
+        frame_ms.saturating_mul(4)
+    } else {
+        frame_ms
+    }
+}
+
+fn encode_error(path: &Path, e: impl std::fmt::Display) -> Error {
+    Error::Encode {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    }
+}
+
+/// An animated GIF, looping.
+fn write_gif(path: &Path, frames: &[RgbaImage], frame_ms: u16) -> Result<()> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    io::write_atomic(path, |out| {
+        let mut gif = GifEncoder::new_with_speed(out, 10);
+        gif.set_repeat(Repeat::Infinite)
+            .map_err(|e| encode_error(path, e))?;
+        for (i, f) in frames.iter().enumerate() {
+            let ms = delay(i, frames.len(), frame_ms) as u32;
+            let frame =
+                image::Frame::from_parts(f.clone(), 0, 0, image::Delay::from_numer_denom_ms(ms, 1));
+            gif.encode_frame(frame).map_err(|e| encode_error(path, e))?;
+        }
+        Ok(())
+    })
+}
+
+/// An animated PNG (8-bit RGBA), looping, with the run's recipe.
+fn write_apng(path: &Path, frames: &[RgbaImage], frame_ms: u16, recipe: &str) -> Result<()> {
+    let Some(first) = frames.first() else {
+        return Err(encode_error(path, "no frames"));
+    };
+    io::write_atomic(path, |out| {
+        let mut enc = png::Encoder::new(out, first.width(), first.height());
+        enc.set_color(png::ColorType::Rgba);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.set_animated(frames.len() as u32, 0)
+            .map_err(|e| encode_error(path, e))?;
+        enc.add_itxt_chunk(embed::KEY.into(), recipe.into())
+            .map_err(|e| encode_error(path, e))?;
+        let mut w = enc.write_header().map_err(|e| encode_error(path, e))?;
+        for (i, f) in frames.iter().enumerate() {
+            w.set_frame_delay(delay(i, frames.len(), frame_ms), 1000)
+                .map_err(|e| encode_error(path, e))?;
+            w.write_image_data(f.as_raw())
+                .map_err(|e| encode_error(path, e))?;
+        }
+        w.finish().map_err(|e| encode_error(path, e))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_frames_are_every_year_then_31() {
+        assert_eq!(default_years(3), [0, 1, 2, 3]);
+        assert_eq!(default_years(0), [0]);
+        let long = default_years(100);
+        assert_eq!((long.len(), long[0], *long.last().unwrap()), (31, 0, 100));
+    }
+
+    #[test]
+    fn frames_parse_and_kinds_follow_the_path() {
+        assert_eq!(parse_years("0, 5,10").unwrap(), [0, 5, 10]);
+        assert!(parse_years("0,x").is_err());
+        assert_eq!(Timelapse::new("a.gif").kind().unwrap(), Kind::Gif);
+        assert_eq!(Timelapse::new("a.PNG").kind().unwrap(), Kind::Apng);
+        assert_eq!(Timelapse::new("frames/").kind().unwrap(), Kind::Folder);
+        assert!(Timelapse::new("a.jpg").kind().is_err());
+    }
+}
