@@ -39,6 +39,7 @@ pub mod pipeline;
 pub mod preset;
 pub mod progress;
 pub mod random;
+pub mod say;
 pub mod stack;
 
 pub use error::{Error, Result};
