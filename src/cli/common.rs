@@ -13,6 +13,11 @@ pub struct PresetFlags {
     /// Preset: a built-in name (see `grime preset --list`) or a .toml file.
     #[arg(long, value_name = "NAME|FILE")]
     pub preset: Option<String>,
+    /// Say how old, e.g. `--say "very rusty near the railings, slightly
+    /// scratched"`: adverbs (slightly .. completely) set coverage, applied
+    /// over the preset and before --set.
+    #[arg(long, value_name = "SENTENCE")]
+    pub say: Option<String>,
     /// Override one preset field, e.g. `--set rain.k_a=0.7` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -30,7 +35,7 @@ pub struct PresetFlags {
 }
 
 impl PresetFlags {
-    /// The preset after the file or name, then `--set`, `--layers`, `--seed`
+    /// The preset after the file or name, then `--say`, `--set`, `--layers`, `--seed`
     /// (and `--max-memory` set for the process).
     pub fn resolve(&self) -> anyhow::Result<Preset> {
         if let Some(bytes) = self.max_memory {
@@ -47,6 +52,11 @@ impl PresetFlags {
                 Preset::from_toml(&text).with_context(|| file.clone())?
             }
         };
+        if let Some(sentence) = &self.say {
+            for note in grime::say::apply(&mut p, sentence)?.notes {
+                eprintln!("grime: note: {note}");
+            }
+        }
         for s in &self.set {
             p.set(s)?;
         }

@@ -154,6 +154,7 @@ fn run_effects(
         wall: &wall,
         normals: scene.normals.as_deref(),
         site: &scene.site,
+        photo: &scene.photo,
     };
     clock.lap("grid");
     progress.update("prepare", 0.05);
