@@ -34,6 +34,8 @@ pub mod rain;
 pub mod region;
 pub mod roughness;
 mod stages;
+#[cfg(test)]
+pub(crate) mod testing;
 pub mod weathering;
 
 use std::collections::BTreeSet;

@@ -76,7 +76,7 @@ pub struct ImperfectionStats {
 
 /// The value of `g` (one per pixel) above which exactly
 /// `round(coverage x area)` of the pixels with placement weight above 0
-/// lie (fewer on ties). `+inf` for none, `-inf` for all of them.
+/// lie (fewer on ties). `+inf` for none; just below the least for all.
 pub fn threshold(g: &[f32], placed: &Placed, coverage: f32) -> f32 {
     let candidates: Vec<f32> = g
         .iter()
@@ -90,7 +90,10 @@ pub fn threshold(g: &[f32], placed: &Placed, coverage: f32) -> f32 {
         return f32::INFINITY;
     }
     if n >= total {
-        return f32::NEG_INFINITY;
+        let (lo, hi) = candidates
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+        return lo - (hi - lo) * 1e-3 - 1e-6;
     }
     let q = (total - n - 1) as f32 / (total - 1).max(1) as f32;
     percentile(candidates, q, Rank::Nearest).unwrap_or(f32::INFINITY)
