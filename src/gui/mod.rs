@@ -34,6 +34,7 @@ pub mod preview;
 pub mod prompt;
 pub mod proxy;
 pub mod render;
+pub mod say;
 pub mod state;
 pub mod status;
 pub mod toolbar;

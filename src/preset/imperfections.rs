@@ -380,6 +380,7 @@ const RUST: [ParamSpec; 8] = common_rows!("rust", "rust");
 
 /// What is particular to each imperfection.
 const OWN: &[ParamSpec] = &[
+    p("say", "", "A sentence that sets the starting point, applied to the defaults before this file's fields, e.g. \"very rusty near the railings, slightly scratched\" (see --say)", 0.0, 0.0),
     p("scratches.length", "", "Mean scratch length, metres (Gaussian)", 0.001, 10.0),
     p("scratches.length_spread", "", "Standard deviation of the length, metres", 0.0, 10.0),
     p("scratches.width", "", "Scratch width, metres", 0.0005, 0.5),
