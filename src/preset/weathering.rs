@@ -111,11 +111,11 @@ impl GeneratorParams {
             enabled: false,
             years: 10.0,
             durability: 10.0,
-            base: 0.2,
+            base: 0.0,
             by_humidity,
             by_light,
-            offset: 0.5,
-            steepness: 20.0,
+            offset: 0.9,
+            steepness: 10.0,
             l_min: 0.0,
             l_max: 1.0,
             size: 0.3,
@@ -127,7 +127,7 @@ impl GeneratorParams {
     /// Spotty: lichen-like spots where it is damp and shaded.
     pub fn spotty() -> GeneratorParams {
         GeneratorParams {
-            base: 0.0,
+            base: 0.3,
             size: 0.15,
             opacity: 0.85,
             ..GeneratorParams::new(0.8, -0.3, [120, 118, 70])
@@ -137,7 +137,7 @@ impl GeneratorParams {
     /// Roughy: a matte, weathered surface where the sun and rain reach.
     pub fn roughy() -> GeneratorParams {
         GeneratorParams {
-            l_min: 0.0,
+            base: 0.2,
             l_max: 0.7,
             size: 0.05,
             ..GeneratorParams::new(0.3, 0.5, [0, 0, 0])

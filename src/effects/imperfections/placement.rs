@@ -87,7 +87,7 @@ pub fn place(ctx: &Context, place: Place) -> Placed {
                 used = "sills (none found: the wall's foot)".into();
                 columns(ctx, &wall, w, h, Placement::Ground)
             } else {
-                below(&sills, w, h)
+                below(&sills, w, h, band)
             }
         }
         Placement::Railings => {
@@ -181,26 +181,41 @@ fn columns(ctx: &Context, wall: &[bool], w: usize, h: usize, which: Placement) -
     out
 }
 
-/// Distance below each polyline, within its span; infinite above it and
-/// beside it.
-fn below(lines: &[Vec<[f32; 2]>], w: usize, h: usize) -> Vec<f32> {
+/// Distance below each polyline; beside its ends the distance grows with
+/// twice the distance past the end (so the area tapers off instead of
+/// ending in a vertical cut), and it is infinite above the line.
+fn below(lines: &[Vec<[f32; 2]>], w: usize, h: usize, band: f32) -> Vec<f32> {
     let mut out = vec![f32::INFINITY; w * h];
     for line in lines {
-        for seg in line.windows(2) {
-            let ([x0, y0], [x1, y1]) = (seg[0], seg[1]);
-            let (a, b) = (x0.min(x1).max(0.0) as usize, (x0.max(x1).ceil() as usize).min(w));
-            for x in a..b {
-                let t = if x1 != x0 { (x as f32 + 0.5 - x0) / (x1 - x0) } else { 0.0 };
-                let yl = y0 + (y1 - y0) * t.clamp(0.0, 1.0);
-                for y in (yl.max(0.0) as usize)..h {
-                    let d = (y as f32 + 0.5 - yl).max(0.0);
-                    let o = &mut out[y * w + x];
-                    *o = o.min(d);
-                }
+        let (lo, hi) = line
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(a, b), p| (a.min(p[0]), b.max(p[0])));
+        let a = (lo - band).max(0.0) as usize;
+        let b = ((hi + band).ceil() as usize).min(w);
+        for x in a..b {
+            let xc = x as f32 + 0.5;
+            let past = (lo - xc).max(xc - hi).max(0.0);
+            let yl = line_y(line, xc.clamp(lo, hi));
+            for y in (yl.max(0.0) as usize)..h {
+                let d = (y as f32 + 0.5 - yl).max(0.0) + 2.0 * past;
+                let o = &mut out[y * w + x];
+                *o = o.min(d);
             }
         }
     }
     out
+}
+
+/// The polyline's row at column `x` (within its span).
+fn line_y(line: &[[f32; 2]], x: f32) -> f32 {
+    for seg in line.windows(2) {
+        let ([x0, y0], [x1, y1]) = (seg[0], seg[1]);
+        if (x0.min(x1)..=x0.max(x1)).contains(&x) {
+            let t = if x1 != x0 { (x - x0) / (x1 - x0) } else { 0.0 };
+            return y0 + (y1 - y0) * t;
+        }
+    }
+    line.first().map_or(0.0, |p| p[1])
 }
 
 /// Marks the pixels a polyline passes through.

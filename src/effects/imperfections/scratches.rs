@@ -24,7 +24,7 @@ pub struct Scratch {
     pub length: f32,
     /// Direction, degrees from horizontal.
     pub angle: f32,
-    /// Alpha, 0..1.
+    /// Alpha, 0..1 (times the share of a pixel its width covers).
     pub intensity: f32,
 }
 
@@ -45,6 +45,8 @@ pub fn draw(ctx: &Context, p: &ScratchParams, placed: &Placed, seed: u64) -> Dra
     let mut scratches = Vec::new();
     let px = |m: f32| ctx.photo_px(m);
     let half = (px(p.width) * 0.5).max(0.5);
+    // A scratch thinner than a pixel covers only part of it: fainter.
+    let thin = px(p.width).min(1.0);
     let mut index = 0u64;
     while covered < want && scratches.len() < MAX_SCRATCHES && placed.area > 0 {
         let mut r = rng(seed, Gen::Scratches.stream(0), 0, index);
@@ -59,7 +61,7 @@ pub fn draw(ctx: &Context, p: &ScratchParams, placed: &Placed, seed: u64) -> Dra
             centre: (x as f32 + r.random::<f32>(), y as f32 + r.random::<f32>()),
             length: (p.length + p.length_spread * g1).max(p.length * 0.2).max(0.0) / ctx.site.metres_per_pixel,
             angle: p.angle + p.angle_spread * g2,
-            intensity: (p.intensity + p.intensity_spread * g3).clamp(0.05, 1.0),
+            intensity: (p.intensity + p.intensity_spread * g3).clamp(0.05, 1.0) * thin,
         };
         covered += stroke(&s, half, placed, &mut alpha);
         scratches.push(s);
