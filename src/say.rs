@@ -90,7 +90,9 @@ const PLACES: &[(&str, &str)] = &[
 const PREPOSITIONS: &[&str] = &[
     "near", "at", "along", "below", "under", "around", "on", "in", "by", "over", "all",
 ];
-const FILLERS: &[&str] = &["and", "the", "a", "is", "it", "make", "wall", "facade", "painted"];
+const FILLERS: &[&str] = &[
+    "and", "the", "a", "is", "it", "make", "wall", "facade", "painted",
+];
 
 /// What a sentence says: preset assignments (`path`, `value`, as `--set`
 /// takes them) in order, and notes on words that set nothing.
@@ -277,7 +279,14 @@ mod tests {
     fn an_unknown_word_lists_the_known_ones() {
         let e = assignments("very crusty").unwrap_err().to_string();
         assert!(e.contains("\"crusty\""), "{e}");
-        for known in ["slightly", "completely", "rusty", "mossy", "streaked", "railings"] {
+        for known in [
+            "slightly",
+            "completely",
+            "rusty",
+            "mossy",
+            "streaked",
+            "railings",
+        ] {
             assert!(e.contains(known), "{known} missing from: {e}");
         }
         assert!(assignments("very near the ground").is_err());

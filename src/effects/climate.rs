@@ -50,7 +50,11 @@ pub fn humidity(ctx: &Context, p: &ClimateParams) -> RowMajor<f32> {
 pub fn suns(p: &ClimateParams) -> [[f32; 3]; 3] {
     let v = |r: f32, el: f32, az: f32| {
         let (el, az) = (el.to_radians(), az.to_radians());
-        [r * el.cos() * az.sin(), r * el.sin(), r * el.cos() * az.cos()]
+        [
+            r * el.cos() * az.sin(),
+            r * el.sin(),
+            r * el.cos() * az.cos(),
+        ]
     };
     let (el, az) = (p.sun_elevation, p.sun_azimuth);
     [
@@ -149,7 +153,10 @@ pub fn heights(ctx: &Context) -> RowMajor<f32> {
     let mut z = RowMajor::filled(gw, gh, 0.0);
     for x in 0..gw {
         let top = (0..gh).find(|&y| ctx.region.get(x, y)).unwrap_or(0) as f32;
-        let foot = (0..gh).rev().find(|&y| ctx.region.get(x, y)).unwrap_or(gh - 1) as f32;
+        let foot = (0..gh)
+            .rev()
+            .find(|&y| ctx.region.get(x, y))
+            .unwrap_or(gh - 1) as f32;
         let (px, _) = ctx.grid.to_photo(x as f32 + 0.5, 0.0);
         let ground = ctx
             .site

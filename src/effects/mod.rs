@@ -182,7 +182,11 @@ impl Effect {
                 "rain.layers" => new.rain.layers <= old.rain.layers && !read_by_enabled(self),
                 _ => false,
             },
-            _ => false,
+            Effect::Moss
+            | Effect::Dust
+            | Effect::Gammaton
+            | Effect::Imperfections
+            | Effect::Weathering => false,
         }
     }
 
@@ -192,7 +196,11 @@ impl Effect {
     pub fn restyle(self, layer: &mut Layer, index: usize, preset: &Preset) {
         match self {
             Effect::Rain => stages::restyle_rain(layer, index, preset),
-            _ => {}
+            Effect::Moss
+            | Effect::Dust
+            | Effect::Gammaton
+            | Effect::Imperfections
+            | Effect::Weathering => {}
         }
     }
 

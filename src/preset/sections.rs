@@ -2,8 +2,8 @@
 //! the four weathering generators): a missing field takes its section's
 //! default, not the type's.
 
-use serde::de::{Deserialize, DeserializeOwned, Deserializer, Error as _};
 use serde::Serialize;
+use serde::de::{Deserialize, DeserializeOwned, Deserializer, Error as _};
 
 use super::{BlotchParams, GeneratorParams};
 

@@ -164,45 +164,216 @@ impl GeneratorParams {
 macro_rules! generator_rows {
     ($s:literal, $what:literal) => {
         [
-            p(concat!($s, ".enabled"), "", concat!("Run ", $what, " (Riihiaho); off by default"), 0.0, 0.0),
+            p(
+                concat!($s, ".enabled"),
+                "",
+                concat!("Run ", $what, " (Riihiaho); off by default"),
+                0.0,
+                0.0,
+            ),
             p(concat!($s, ".years"), "t", "Years of exposure", 0.0, 1000.0),
-            p(concat!($s, ".durability"), "d", "Durability in years; the generator sees t_d = t / d (eq. 3.9)", 0.01, 1000.0),
-            p(concat!($s, ".base"), "", "Environment e without light or humidity (eq. 3.10)", -2.0, 2.0),
-            p(concat!($s, ".by_humidity"), "e_e", "How much humidity encourages it (negative: discourages)", -2.0, 2.0),
-            p(concat!($s, ".by_light"), "e_d", "How much direct sunlight encourages it (negative: discourages)", -2.0, 2.0),
-            p(concat!($s, ".offset"), "s_o", "Offset of the generator's sigmoid S(e t_d) (eq. 3.7)", -2.0, 2.0),
-            p(concat!($s, ".steepness"), "s_s", "Steepness of the generator's sigmoid (eq. 3.7)", 0.01, 10000.0),
-            p(concat!($s, ".l_min"), "l_min", "Lower limit of the sigmoid (Desaturaty: the least saturation kept)", 0.0, 1.0),
-            p(concat!($s, ".l_max"), "l_max", "Upper limit of the sigmoid (Roughy)", 0.0, 1.0),
-            p(concat!($s, ".size"), "", "Feature size, metres (Spotty's islands; Roughy's contrast radius)", 0.005, 50.0),
-            p(concat!($s, ".color"), "c_2", "Colour: Spotty's spots, Fade Towardy's target", 0.0, 255.0),
+            p(
+                concat!($s, ".durability"),
+                "d",
+                "Durability in years; the generator sees t_d = t / d (eq. 3.9)",
+                0.01,
+                1000.0,
+            ),
+            p(
+                concat!($s, ".base"),
+                "",
+                "Environment e without light or humidity (eq. 3.10)",
+                -2.0,
+                2.0,
+            ),
+            p(
+                concat!($s, ".by_humidity"),
+                "e_e",
+                "How much humidity encourages it (negative: discourages)",
+                -2.0,
+                2.0,
+            ),
+            p(
+                concat!($s, ".by_light"),
+                "e_d",
+                "How much direct sunlight encourages it (negative: discourages)",
+                -2.0,
+                2.0,
+            ),
+            p(
+                concat!($s, ".offset"),
+                "s_o",
+                "Offset of the generator's sigmoid S(e t_d) (eq. 3.7)",
+                -2.0,
+                2.0,
+            ),
+            p(
+                concat!($s, ".steepness"),
+                "s_s",
+                "Steepness of the generator's sigmoid (eq. 3.7)",
+                0.01,
+                10000.0,
+            ),
+            p(
+                concat!($s, ".l_min"),
+                "l_min",
+                "Lower limit of the sigmoid (Desaturaty: the least saturation kept)",
+                0.0,
+                1.0,
+            ),
+            p(
+                concat!($s, ".l_max"),
+                "l_max",
+                "Upper limit of the sigmoid (Roughy)",
+                0.0,
+                1.0,
+            ),
+            p(
+                concat!($s, ".size"),
+                "",
+                "Feature size, metres (Spotty's islands; Roughy's contrast radius)",
+                0.005,
+                50.0,
+            ),
+            p(
+                concat!($s, ".color"),
+                "c_2",
+                "Colour: Spotty's spots, Fade Towardy's target",
+                0.0,
+                255.0,
+            ),
             p(concat!($s, ".opacity"), "", "Layer opacity", 0.0, 1.0),
         ]
     };
 }
 
 const CLIMATE: &[ParamSpec] = &[
-    p("climate.sun_azimuth", "phi", "Sun azimuth in degrees: 0 = in front of the wall, -90 = from the left, 90 = from the right (eq. 3.5)", -180.0, 180.0),
-    p("climate.sun_elevation", "theta", "Sun elevation above the horizon, degrees", -90.0, 90.0),
-    p("climate.k1", "k_1", "Power of the two side suns, share of the main sun's", 0.0, 1.0),
-    p("climate.k2", "k_2", "Elevation of the side suns, share of the main sun's", 0.0, 1.0),
-    p("climate.k3", "k_3", "Azimuth spread of the side suns, degrees", 0.0, 180.0),
-    p("climate.light_scale", "s", "Scale of direct light (eq. 3.5)", 0.0, 1.0),
-    p("climate.relief", "", "How strongly the photo's shading is read as relief for the normals (no --normal-map)", 0.0, 100.0),
-    p("climate.indirect_offset", "s_o", "Offset of the indirect light's sigmoid of accessibility (eq. 3.6)", -2.0, 2.0),
-    p("climate.indirect_steepness", "s_s", "Steepness of the indirect light's sigmoid", 0.01, 10000.0),
-    p("climate.base_humidity", "h_b", "Base humidity (eq. 3.8's alpha)", 0.0, 1.0),
-    p("climate.ground_offset", "s_o", "Offset of S(1 - z): 1 - z above it is wet (z = 0 at the ground, 1 at the wall's top)", -2.0, 2.0),
-    p("climate.ground_steepness", "s_s", "Steepness of S(1 - z)", 0.01, 10000.0),
-    p("climate.c1", "c_1", "Drying by air: weight of S(a_g) in beta", 0.0, 2.0),
-    p("climate.c2", "c_2", "Drying by direct light: weight of l_d in beta", 0.0, 2.0),
-    p("climate.c3", "c_3", "Drying by indirect light: weight of l_i in beta", 0.0, 2.0),
-    p("climate.humidity_scale", "s", "Scale of humidity h = [s (alpha - beta)] (eq. 3.8)", 0.0, 10.0),
+    p(
+        "climate.sun_azimuth",
+        "phi",
+        "Sun azimuth in degrees: 0 = in front of the wall, -90 = from the left, 90 = from the right (eq. 3.5)",
+        -180.0,
+        180.0,
+    ),
+    p(
+        "climate.sun_elevation",
+        "theta",
+        "Sun elevation above the horizon, degrees",
+        -90.0,
+        90.0,
+    ),
+    p(
+        "climate.k1",
+        "k_1",
+        "Power of the two side suns, share of the main sun's",
+        0.0,
+        1.0,
+    ),
+    p(
+        "climate.k2",
+        "k_2",
+        "Elevation of the side suns, share of the main sun's",
+        0.0,
+        1.0,
+    ),
+    p(
+        "climate.k3",
+        "k_3",
+        "Azimuth spread of the side suns, degrees",
+        0.0,
+        180.0,
+    ),
+    p(
+        "climate.light_scale",
+        "s",
+        "Scale of direct light (eq. 3.5)",
+        0.0,
+        1.0,
+    ),
+    p(
+        "climate.relief",
+        "",
+        "How strongly the photo's shading is read as relief for the normals (no --normal-map)",
+        0.0,
+        100.0,
+    ),
+    p(
+        "climate.indirect_offset",
+        "s_o",
+        "Offset of the indirect light's sigmoid of accessibility (eq. 3.6)",
+        -2.0,
+        2.0,
+    ),
+    p(
+        "climate.indirect_steepness",
+        "s_s",
+        "Steepness of the indirect light's sigmoid",
+        0.01,
+        10000.0,
+    ),
+    p(
+        "climate.base_humidity",
+        "h_b",
+        "Base humidity (eq. 3.8's alpha)",
+        0.0,
+        1.0,
+    ),
+    p(
+        "climate.ground_offset",
+        "s_o",
+        "Offset of S(1 - z): 1 - z above it is wet (z = 0 at the ground, 1 at the wall's top)",
+        -2.0,
+        2.0,
+    ),
+    p(
+        "climate.ground_steepness",
+        "s_s",
+        "Steepness of S(1 - z)",
+        0.01,
+        10000.0,
+    ),
+    p(
+        "climate.c1",
+        "c_1",
+        "Drying by air: weight of S(a_g) in beta",
+        0.0,
+        2.0,
+    ),
+    p(
+        "climate.c2",
+        "c_2",
+        "Drying by direct light: weight of l_d in beta",
+        0.0,
+        2.0,
+    ),
+    p(
+        "climate.c3",
+        "c_3",
+        "Drying by indirect light: weight of l_i in beta",
+        0.0,
+        2.0,
+    ),
+    p(
+        "climate.humidity_scale",
+        "s",
+        "Scale of humidity h = [s (alpha - beta)] (eq. 3.8)",
+        0.0,
+        10.0,
+    ),
 ];
 
-const SPOTTY: [ParamSpec; 13] = generator_rows!("spotty", "Spotty: islands whose sea level drops with time (eq. 3.12)");
-const ROUGHY: [ParamSpec; 13] = generator_rows!("roughy", "Roughy: a change of roughness, seen as local contrast (eq. 3.13)");
-const FADE: [ParamSpec; 13] = generator_rows!("fade", "Fade Towardy: a colour shift toward `color` (eqs. 3.14-3.15)");
+const SPOTTY: [ParamSpec; 13] = generator_rows!(
+    "spotty",
+    "Spotty: islands whose sea level drops with time (eq. 3.12)"
+);
+const ROUGHY: [ParamSpec; 13] = generator_rows!(
+    "roughy",
+    "Roughy: a change of roughness, seen as local contrast (eq. 3.13)"
+);
+const FADE: [ParamSpec; 13] = generator_rows!(
+    "fade",
+    "Fade Towardy: a colour shift toward `color` (eqs. 3.14-3.15)"
+);
 const DESATURATE: [ParamSpec; 13] = generator_rows!("desaturate", "Desaturaty: sun-faded colour");
 
 /// Every row of this module, for the PARAMS table.

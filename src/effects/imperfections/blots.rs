@@ -69,7 +69,14 @@ pub fn draw(
         return (pixels, BlendMode::Multiply, alpha);
     }
     // Splotches: fractal wet and dry regions inside, the wet darker.
-    let wet = Fractal::new(seed, which.stream(1), w, h, ctx.photo_px(p.size * 0.3).max(2.0), 0.6);
+    let wet = Fractal::new(
+        seed,
+        which.stream(1),
+        w,
+        h,
+        ctx.photo_px(p.size * 0.3).max(2.0),
+        0.6,
+    );
     let wet_level = 1.0 - p.wet;
     let dark = p.color.map(|c| (c as f32 * 0.55) as u8);
     let mut img = RgbaImage::new(w as u32, h as u32);
@@ -86,6 +93,8 @@ pub fn draw(
             px.copy_from_slice(&[c[0], c[1], c[2], alpha_byte(a)]);
         }
     });
-    let alpha = GrayImage::from_fn(w as u32, h as u32, |x, y| image::Luma([img.get_pixel(x, y)[3]]));
+    let alpha = GrayImage::from_fn(w as u32, h as u32, |x, y| {
+        image::Luma([img.get_pixel(x, y)[3]])
+    });
     (LayerPixels::Rgba(img), BlendMode::Normal, alpha)
 }

@@ -3,7 +3,7 @@
 //! coarse lattice `size` apart, then each level halves the spacing and
 //! adds midpoints displaced by `roughness` times the level above's amount.
 
-use crate::random::{key, StreamId};
+use crate::random::{StreamId, key};
 
 /// Longest side of the subdivision lattice, in cells.
 const MAX_CELLS: usize = 2048;
@@ -20,7 +20,14 @@ pub struct Fractal {
 impl Fractal {
     /// A fractal over a `w` x `h` photo whose coarsest features are `size`
     /// pixels apart; `roughness` is the displacement ratio per level.
-    pub fn new(seed: u64, stream: impl StreamId, w: usize, h: usize, size: f32, roughness: f32) -> Fractal {
+    pub fn new(
+        seed: u64,
+        stream: impl StreamId,
+        w: usize,
+        h: usize,
+        size: f32,
+        roughness: f32,
+    ) -> Fractal {
         let longest = w.max(h).max(2) as f32;
         let mut n = 1;
         while (1usize << n) < MAX_CELLS && ((1usize << n) as f32) < longest {
@@ -61,12 +68,15 @@ impl Fractal {
             }
             // Square: edge midpoints.
             for y in (0..side).step_by(half) {
-                let start = if (y / half) % 2 == 0 { half } else { 0 };
+                let start = if (y / half).is_multiple_of(2) { half } else { 0 };
                 for x in (start..side).step_by(step) {
                     let mut sum = 0.0;
                     let mut k = 0.0;
                     for (dx, dy) in [(-1, 0), (1, 0), (0, -1), (0, 1)] {
-                        let (xx, yy) = (x as isize + dx * half as isize, y as isize + dy * half as isize);
+                        let (xx, yy) = (
+                            x as isize + dx * half as isize,
+                            y as isize + dy * half as isize,
+                        );
                         if xx >= 0 && yy >= 0 && (xx as usize) < side && (yy as usize) < side {
                             sum += v[yy as usize * side + xx as usize];
                             k += 1.0;
@@ -84,7 +94,11 @@ impl Fractal {
             .fold((f32::MAX, f32::MIN), |(a, b), &x| (a.min(x), b.max(x)));
         let span = (hi - lo).max(1e-9);
         v.iter_mut().for_each(|x| *x = (*x - lo) / span);
-        Fractal { side, cell, values: v }
+        Fractal {
+            side,
+            cell,
+            values: v,
+        }
     }
 
     /// The value at photo point (x, y), bilinear.
@@ -116,7 +130,11 @@ mod tests {
         assert_eq!(a.at(17.3, 99.1), b.at(17.3, 99.1));
         // Rougher fractals vary more between neighbouring pixels.
         let r = Fractal::new(3, (Effect::Gammaton, 9), 300, 200, 40.0, 0.9);
-        let jump = |f: &Fractal| -> f32 { (0..299).map(|x| (f.at(x as f32 + 1.0, 50.0) - f.at(x as f32, 50.0)).abs()).sum() };
+        let jump = |f: &Fractal| -> f32 {
+            (0..299)
+                .map(|x| (f.at(x as f32 + 1.0, 50.0) - f.at(x as f32, 50.0)).abs())
+                .sum()
+        };
         assert!(jump(&r) > jump(&a));
     }
 }

@@ -79,10 +79,19 @@ pub fn aggregate(g: &Ground, p: &RustParams, min_rusted: usize, seed: u64) -> Ag
                         continue;
                     }
                     let (xi, yi) = (x as isize, y as isize);
-                    let k = [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)]
-                        .iter()
-                        .filter(|(dx, dy)| was(xi + dx, yi + dy))
-                        .count();
+                    let k = [
+                        (-1, -1),
+                        (0, -1),
+                        (1, -1),
+                        (-1, 0),
+                        (1, 0),
+                        (-1, 1),
+                        (0, 1),
+                        (1, 1),
+                    ]
+                    .iter()
+                    .filter(|(dx, dy)| was(xi + dx, yi + dy))
+                    .count();
                     let mut chance = p.p_interior + 1.0 - (1.0 - p.p_neighbour).powi(k as i32);
                     if g.sources.get(x, y) {
                         chance += p.p_edge;
@@ -122,7 +131,11 @@ pub fn stage(
         (y as usize).min(h - 1) * w + (x as usize).min(w - 1)
     };
     let allowed = RowMajor::from_fn(gw, gh, |x, y| {
-        if ctx.region.get(x, y) { placed.weight[at(x, y)] } else { 0.0 }
+        if ctx.region.get(x, y) {
+            placed.weight[at(x, y)]
+        } else {
+            0.0
+        }
     });
     let near = 1.5 * grid.scale;
     let feature = matches!(
@@ -137,10 +150,16 @@ pub fn stage(
             return placed.distance[at(x, y)] <= near;
         }
         // Otherwise the region's own edges are the metal.
-        [(-1isize, 0isize), (1, 0), (0, -1), (0, 1)].iter().any(|(dx, dy)| {
-            let (xx, yy) = (x as isize + dx, y as isize + dy);
-            xx < 0 || yy < 0 || xx as usize >= gw || yy as usize >= gh || !ctx.region.get(xx as usize, yy as usize)
-        })
+        [(-1isize, 0isize), (1, 0), (0, -1), (0, 1)]
+            .iter()
+            .any(|(dx, dy)| {
+                let (xx, yy) = (x as isize + dx, y as isize + dy);
+                xx < 0
+                    || yy < 0
+                    || xx as usize >= gw
+                    || yy as usize >= gh
+                    || !ctx.region.get(xx as usize, yy as usize)
+            })
     });
     let mut r = rng(seed, Gen::Rust.stream(1), 0, 0);
     let mut seeds = Vec::new();
@@ -165,9 +184,19 @@ pub fn stage(
     let total = agg.iterations as f32 + 1.0;
     let value = RowMajor::from_fn(gw, gh, |x, y| {
         let a = agg.age.get(x, y);
-        if a.is_finite() { 0.3 + 0.7 * (total - a) / total } else { 0.0 }
+        if a.is_finite() {
+            0.3 + 0.7 * (total - a) / total
+        } else {
+            0.0
+        }
     });
-    let noise = Noise::new(key(seed, Gen::Rust.stream(2), 0, 0), w as u32, h as u32, ctx.photo_px(0.02).max(1.5), 2);
+    let noise = Noise::new(
+        key(seed, Gen::Rust.stream(2), 0, 0),
+        w as u32,
+        h as u32,
+        ctx.photo_px(0.02).max(1.5),
+        2,
+    );
     let g: Vec<f32> = (0..w * h)
         .into_par_iter()
         .map(|i| {
@@ -195,7 +224,9 @@ pub fn stage(
             }
         }
     });
-    let alpha = GrayImage::from_fn(w as u32, h as u32, |x, y| image::Luma([img.get_pixel(x, y)[3]]));
+    let alpha = GrayImage::from_fn(w as u32, h as u32, |x, y| {
+        image::Luma([img.get_pixel(x, y)[3]])
+    });
     let coverage = Coverage {
         name: "rust".into(),
         placement: placed.used.clone(),
@@ -203,7 +234,12 @@ pub fn stage(
         target: p.coverage,
         coverage: measured(&alpha, placed),
     };
-    let mut layers = vec![layer("rust", BlendMode::Normal, p.opacity, LayerPixels::Rgba(img))];
+    let mut layers = vec![layer(
+        "rust",
+        BlendMode::Normal,
+        p.opacity,
+        LayerPixels::Rgba(img),
+    )];
     if p.run > 0.0 {
         let runs = run_down(&alpha, ctx.wall, ctx.photo_px(p.run), &noise);
         layers.insert(
@@ -212,7 +248,10 @@ pub fn stage(
                 "rust runs",
                 BlendMode::Normal,
                 p.run_opacity,
-                LayerPixels::Tint { color: dark, alpha: runs },
+                LayerPixels::Tint {
+                    color: dark,
+                    alpha: runs,
+                },
             ),
         );
     }
@@ -232,7 +271,11 @@ fn run_down(rust: &GrayImage, wall: &Region, length: f32, noise: &Noise) -> Gray
             let a = rust.get_pixel(x as u32, y as u32)[0] as f32 / 255.0;
             carried = (carried - fade).max(a);
             if a == 0.0 && carried > 0.0 && wall.contains(x as f32 + 0.5, y as f32 + 0.5) {
-                out.put_pixel(x as u32, y as u32, image::Luma([(carried * streak * 255.0) as u8]));
+                out.put_pixel(
+                    x as u32,
+                    y as u32,
+                    image::Luma([(carried * streak * 255.0) as u8]),
+                );
             }
         }
     }

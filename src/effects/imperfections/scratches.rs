@@ -59,7 +59,10 @@ pub fn draw(ctx: &Context, p: &ScratchParams, placed: &Placed, seed: u64) -> Dra
         let (g3, _) = box_muller(&mut r);
         let s = Scratch {
             centre: (x as f32 + r.random::<f32>(), y as f32 + r.random::<f32>()),
-            length: (p.length + p.length_spread * g1).max(p.length * 0.2).max(0.0) / ctx.site.metres_per_pixel,
+            length: (p.length + p.length_spread * g1)
+                .max(p.length * 0.2)
+                .max(0.0)
+                / ctx.site.metres_per_pixel,
             angle: p.angle + p.angle_spread * g2,
             intensity: (p.intensity + p.intensity_spread * g3).clamp(0.05, 1.0) * thin,
         };
@@ -83,7 +86,10 @@ fn stroke(s: &Scratch, half: f32, placed: &Placed, alpha: &mut [u8]) -> u64 {
     let mut new = 0;
     for k in 0..=steps {
         let t = k as f32 / steps as f32 - 0.5;
-        let (cx, cy) = (s.centre.0 + dx * s.length * t, s.centre.1 + dy * s.length * t);
+        let (cx, cy) = (
+            s.centre.0 + dx * s.length * t,
+            s.centre.1 + dy * s.length * t,
+        );
         for oy in -reach..=reach {
             for ox in -reach..=reach {
                 let (x, y) = (cx as isize + ox, cy as isize + oy);

@@ -1,7 +1,7 @@
-use crate::field::RowMajor;
 use super::placement::{self, AREA};
 use super::*;
 use crate::effects::testing;
+use crate::field::RowMajor;
 use crate::preset::{BlotchParams, Placement, RustParams, ScratchParams};
 use crate::say::{ADVERBS, NO_ADVERB};
 
@@ -25,14 +25,28 @@ fn scratches_spread_around_the_dominant_axis_and_are_centimetres() {
         let n = drawn.scratches.len() as f32;
         assert!(n > 200.0, "{n} scratches");
         let mean = drawn.scratches.iter().map(|s| s.angle).sum::<f32>() / n;
-        let sd = (drawn.scratches.iter().map(|s| (s.angle - mean).powi(2)).sum::<f32>() / n).sqrt();
+        let sd = (drawn
+            .scratches
+            .iter()
+            .map(|s| (s.angle - mean).powi(2))
+            .sum::<f32>()
+            / n)
+            .sqrt();
         assert!((mean - 30.0).abs() < 1.5, "mean angle {mean}");
         assert!((sd - 10.0).abs() < 1.5, "angle spread {sd}");
         // 8 cm on a 10 m wide photo of 320 px: about 2.6 px, not a tenth of it.
         let len = drawn.scratches.iter().map(|s| s.length).sum::<f32>() / n;
         assert!((len - 0.08 * 32.0).abs() < 0.3, "mean length {len} px");
         // No spread: one direction.
-        let narrow = scratches::draw(ctx, &ScratchParams { angle_spread: 0.0, ..p }, &placed, 5);
+        let narrow = scratches::draw(
+            ctx,
+            &ScratchParams {
+                angle_spread: 0.0,
+                ..p
+            },
+            &placed,
+            5,
+        );
         assert!(narrow.scratches.iter().all(|s| s.angle == 30.0));
     });
 }
@@ -51,13 +65,24 @@ fn a_higher_splotch_threshold_leaves_sparser_splotches_inside_the_lower_ones() {
         let (_, _, a) = blots::draw(ctx, &sparse, &placed, 3, Gen::Splotches);
         let (_, _, b) = blots::draw(ctx, &dense, &placed, 3, Gen::Splotches);
         let (ca, cb) = (measured(&a, &placed), measured(&b, &placed));
-        assert!((ca - 0.1).abs() < 0.005 && (cb - 0.4).abs() < 0.005, "{ca} {cb}");
+        assert!(
+            (ca - 0.1).abs() < 0.005 && (cb - 0.4).abs() < 0.005,
+            "{ca} {cb}"
+        );
         // The field is the same: a higher threshold n keeps a subset.
-        assert!(a.pixels().zip(b.pixels()).all(|(x, y)| x[0] == 0 || y[0] > 0));
+        assert!(
+            a.pixels()
+                .zip(b.pixels())
+                .all(|(x, y)| x[0] == 0 || y[0] > 0)
+        );
         // [n, 1] interpolates: dry splotch alpha grows away from the edge.
         let g = blots::field(ctx, &dense, &placed, 3, Gen::Splotches);
         let t = threshold(&g, &placed, 0.4);
-        assert!(g.iter().zip(b.pixels()).all(|(v, a)| (*v > t) == (a[0] > 0)));
+        assert!(
+            g.iter()
+                .zip(b.pixels())
+                .all(|(v, a)| (*v > t) == (a[0] > 0))
+        );
     });
 }
 
@@ -70,7 +95,16 @@ fn rusted_connected_to_seeds(agg: &rust::Aggregate, seeds: &[(usize, usize)]) ->
             continue;
         }
         seen[y * w + x] = true;
-        for (dx, dy) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+        for (dx, dy) in [
+            (-1, -1),
+            (0, -1),
+            (1, -1),
+            (-1, 0),
+            (1, 0),
+            (-1, 1),
+            (0, 1),
+            (1, 1),
+        ] {
             let (xx, yy) = (x as isize + dx, y as isize + dy);
             if xx >= 0 && yy >= 0 && (xx as usize) < w && (yy as usize) < h {
                 stack.push((xx as usize, yy as usize));
@@ -101,7 +135,10 @@ fn rust_grows_from_its_seeds_and_with_iterations() {
         .map(|n| {
             let agg = rust::aggregate(&ground, &p(n), 0, 7);
             assert_eq!(agg.iterations, n);
-            assert!(rusted_connected_to_seeds(&agg, &seeds), "rust away from its seeds at {n}");
+            assert!(
+                rusted_connected_to_seeds(&agg, &seeds),
+                "rust away from its seeds at {n}"
+            );
             // Older rust sits nearer its seed.
             agg.rusted
         })
@@ -115,7 +152,16 @@ fn rust_grows_from_its_seeds_and_with_iterations() {
         sources: &row,
         seeds: &[],
     };
-    let agg = rust::aggregate(&metal, &RustParams { p_edge: 0.1, p_interior: 0.0, ..p(10) }, 0, 7);
+    let agg = rust::aggregate(
+        &metal,
+        &RustParams {
+            p_edge: 0.1,
+            p_interior: 0.0,
+            ..p(10)
+        },
+        0,
+        7,
+    );
     let near = (0..120 * 90)
         .filter(|&i| agg.age.data()[i].is_finite())
         .all(|i| (i / 120).abs_diff(45) <= 10);
@@ -139,8 +185,11 @@ fn the_coverage_table_holds_for_every_adverb_generator_and_placement() {
                     let mut preset = Preset::default();
                     preset.set(&format!("{what}.enabled=true")).unwrap();
                     preset.set(&format!("{what}.coverage={c}")).unwrap();
-                    preset.set(&format!("{what}.placement=\"{placement}\"")).unwrap();
-                    let made = stage(ctx, &mut Products::default(), &preset, &Progress::none()).unwrap();
+                    preset
+                        .set(&format!("{what}.placement=\"{placement}\""))
+                        .unwrap();
+                    let made =
+                        stage(ctx, &mut Products::default(), &preset, &Progress::none()).unwrap();
                     let layer = made.layers.iter().find(|l| l.name == what).unwrap();
                     let place = match what {
                         "scratches" => preset.scratches.place(),
@@ -166,7 +215,15 @@ fn the_coverage_table_holds_for_every_adverb_generator_and_placement() {
 fn placements_put_the_area_where_they_say() {
     testing::facade(240, 180, |ctx| {
         let rows = |p: Placement| {
-            let placed = placement::place(ctx, crate::preset::Place { placement: p, band: 1.0, around: [120.0, 90.0], area: &[] });
+            let placed = placement::place(
+                ctx,
+                crate::preset::Place {
+                    placement: p,
+                    band: 1.0,
+                    around: [120.0, 90.0],
+                    area: &[],
+                },
+            );
             let (mut sum, mut n) = (0.0, 0.0);
             for (i, w) in placed.weight.iter().enumerate() {
                 if *w >= AREA {

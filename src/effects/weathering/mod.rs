@@ -140,7 +140,11 @@ pub(super) fn stage(
         progress.check()?;
         progress.update("spotty", 0.8);
         let m = musgrave(ctx, p, preset.seed);
-        let g = spotty(&m, &environment(&climate, p), p.years / p.durability.max(1e-3));
+        let g = spotty(
+            &m,
+            &environment(&climate, p),
+            p.years / p.durability.max(1e-3),
+        );
         let pixels = LayerPixels::Tint {
             color: p.color,
             alpha: up(&g),
@@ -196,7 +200,10 @@ fn smoothed(photo: &image::RgbImage, r: usize) -> image::RgbImage {
 
 /// Whether any generator is on.
 pub fn enabled(preset: &Preset) -> bool {
-    preset.spotty.enabled || preset.roughy.enabled || preset.fade.enabled || preset.desaturate.enabled
+    preset.spotty.enabled
+        || preset.roughy.enabled
+        || preset.fade.enabled
+        || preset.desaturate.enabled
 }
 
 #[cfg(test)]

@@ -3,8 +3,8 @@ use image::{Rgb, RgbImage};
 use super::*;
 use crate::effects::testing;
 use crate::photo::Photo;
-use crate::preset::ClimateParams;
 use crate::pipeline::Site;
+use crate::preset::ClimateParams;
 use crate::stack::Stack;
 
 /// A red wall whose left half faces the sun (normals tilted toward it)
@@ -18,7 +18,11 @@ fn half_lit() -> (Photo, RgbImage) {
     // Tangent space, 127.5 = 0: left tilts right (toward a sun at +60°),
     // right tilts left.
     let normals = RgbImage::from_fn(160, 120, |x, _| {
-        if x < 80 { Rgb([230, 128, 200]) } else { Rgb([25, 128, 200]) }
+        if x < 80 {
+            Rgb([230, 128, 200])
+        } else {
+            Rgb([25, 128, 200])
+        }
     });
     (photo, normals)
 }
@@ -38,7 +42,12 @@ fn desaturaty_fades_most_where_the_light_is_strongest() {
     preset.climate.sun_elevation = 10.0;
     testing::with(&photo, None, &site, Some(&normals), 0, |ctx| {
         let light = climate::light(ctx, &preset.climate);
-        assert!(light.get(40, 60) > light.get(120, 60) + 0.2, "{} {}", light.get(40, 60), light.get(120, 60));
+        assert!(
+            light.get(40, 60) > light.get(120, 60) + 0.2,
+            "{} {}",
+            light.get(40, 60),
+            light.get(120, 60)
+        );
         let made = stage(ctx, &mut Products::default(), &preset, &Progress::none()).unwrap();
         let stack = Stack {
             base: std::sync::Arc::new(photo.clone()),
@@ -47,7 +56,12 @@ fn desaturaty_fades_most_where_the_light_is_strongest() {
         };
         let out = stack.composite().to_rgb8();
         let drop = |x| saturation([200, 70, 50]) - saturation(out.get_pixel(x, 60).0);
-        assert!(drop(40) > drop(120) + 0.1, "sunny {} shaded {}", drop(40), drop(120));
+        assert!(
+            drop(40) > drop(120) + 0.1,
+            "sunny {} shaded {}",
+            drop(40),
+            drop(120)
+        );
         assert!(drop(120) >= 0.0);
     });
 }
@@ -62,12 +76,24 @@ fn spotty_spots_grow_in_place() {
         let c = climate::maps(ctx, &ClimateParams::default());
         let m = musgrave(ctx, &p, 4);
         let e = environment(&c, &p);
-        let spots: Vec<RowMajor<f32>> = [0.3, 0.6, 1.2].iter().map(|&t| spotty(&m, &e, t)).collect();
+        let spots: Vec<RowMajor<f32>> =
+            [0.3, 0.6, 1.2].iter().map(|&t| spotty(&m, &e, t)).collect();
         let area = |s: &RowMajor<f32>| s.data().iter().filter(|&&v| v > 0.0).count();
         for pair in spots.windows(2) {
             // Every spot of the earlier time is still there, at least as strong.
-            assert!(pair[0].data().iter().zip(pair[1].data()).all(|(a, b)| b >= a));
-            assert!(area(&pair[1]) > area(&pair[0]), "{} {}", area(&pair[0]), area(&pair[1]));
+            assert!(
+                pair[0]
+                    .data()
+                    .iter()
+                    .zip(pair[1].data())
+                    .all(|(a, b)| b >= a)
+            );
+            assert!(
+                area(&pair[1]) > area(&pair[0]),
+                "{} {}",
+                area(&pair[0]),
+                area(&pair[1])
+            );
         }
         assert!(area(&spots[0]) > 0);
     });
