@@ -11,6 +11,7 @@ mod gammaton;
 mod imperfections;
 mod params;
 mod sections;
+mod table;
 mod weathering;
 
 pub use diff::diff_paths;
@@ -20,7 +21,8 @@ pub use gammaton::{
 pub use imperfections::{
     BlotchParams, Imperfection, MouldParams, Place, Placement, RustParams, ScratchParams,
 };
-pub use params::{PARAMS, ParamSpec, param};
+pub use params::{ParamSpec, param};
+pub use table::PARAMS;
 pub use weathering::{ClimateParams, GeneratorParams};
 
 use serde::{Deserialize, Serialize};

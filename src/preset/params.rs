@@ -31,56 +31,8 @@ pub(super) const fn p(
     }
 }
 
-/// Every numeric parameter. Validation, `grime preset default` comments and
-/// the GUI's sliders all read this table. Entries with `min == max` document
-/// a switch, a name or a list (never range-checked).
-pub const PARAMS: &[ParamSpec] = &ALL;
-
-/// The tables of the preset's modules, in section order.
-const PARTS: &[&[ParamSpec]] = &[
-    CORE,
-    super::imperfections::ROWS[0],
-    super::imperfections::ROWS[1],
-    super::imperfections::ROWS[2],
-    super::imperfections::ROWS[3],
-    super::imperfections::ROWS[4],
-    super::imperfections::ROWS[5],
-    super::weathering::ROWS[0],
-    super::weathering::ROWS[1],
-    super::weathering::ROWS[2],
-    super::weathering::ROWS[3],
-    super::weathering::ROWS[4],
-];
-
-const ALL: [ParamSpec; rows(PARTS)] = join(PARTS);
-
-const fn rows(parts: &[&[ParamSpec]]) -> usize {
-    let (mut i, mut n) = (0, 0);
-    while i < parts.len() {
-        n += parts[i].len();
-        i += 1;
-    }
-    n
-}
-
-/// The parts one after another (a `const` concatenation).
-const fn join<const N: usize>(parts: &[&[ParamSpec]]) -> [ParamSpec; N] {
-    let mut out = [p("", "", "", 0.0, 0.0); N];
-    let (mut i, mut k) = (0, 0);
-    while i < parts.len() {
-        let mut j = 0;
-        while j < parts[i].len() {
-            out[k] = parts[i][j];
-            k += 1;
-            j += 1;
-        }
-        i += 1;
-    }
-    out
-}
-
-/// The core effects' parameters.
-const CORE: &[ParamSpec] = &[
+/// The core effects' parameters (rain, stain, moss, dust, γ-tons).
+pub(super) const CORE: &[ParamSpec] = &[
     p(
         "seed",
         "",
@@ -794,5 +746,5 @@ const CORE: &[ParamSpec] = &[
 
 /// Looks up a parameter's spec by dotted path.
 pub fn param(path: &str) -> Option<&'static ParamSpec> {
-    PARAMS.iter().find(|s| s.path == path)
+    super::PARAMS.iter().find(|s| s.path == path)
 }

@@ -68,7 +68,11 @@ impl Fractal {
             }
             // Square: edge midpoints.
             for y in (0..side).step_by(half) {
-                let start = if (y / half).is_multiple_of(2) { half } else { 0 };
+                let start = if (y / half).is_multiple_of(2) {
+                    half
+                } else {
+                    0
+                };
                 for x in (start..side).step_by(step) {
                     let mut sum = 0.0;
                     let mut k = 0.0;
