@@ -18,19 +18,24 @@ pub fn panel(ui: &mut Ui, preset: &Preset, out: &mut Vec<Command>) {
         .unwrap_or_else(|| preset.say.clone());
     let mut apply = false;
     ui.horizontal(|ui| {
+        let label = ui.label("Say how old");
         let edit = ui
             .add(
                 egui::TextEdit::singleline(&mut text)
                     .hint_text("very rusty near the railings, slightly scratched")
                     .desired_width(ui.available_width() - 60.0),
             )
+            .labelled_by(label.id)
             .on_hover_text(
                 "Say how old: [adverb] effect [near the place], ... \
                  Adverbs set coverage: slightly 0.05, partially 0.1, somewhat 0.2, (none) 0.25, \
                  moderately 0.35, very 0.55, extremely 0.75, completely 1. Same as --say.",
             );
         apply = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-        apply |= ui.button("Apply").clicked();
+        apply |= ui
+            .button("Say it")
+            .on_hover_text("Set the sliders the sentence names")
+            .clicked();
     });
     ui.data_mut(|d| d.insert_temp(text_id, text.clone()));
     if apply {
