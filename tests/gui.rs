@@ -535,8 +535,16 @@ fn the_say_box_fills_the_sliders_and_shows_what_it_set() {
     h.get_by_label("rust.coverage = 0.55");
     settle(&mut h);
     let preview = h.state().controller().preview().current().unwrap();
-    let names: Vec<&str> = preview.stack.layers.iter().map(|l| l.name.as_str()).collect();
-    assert!(names.contains(&"rust") && names.contains(&"scratches"), "{names:?}");
+    let names: Vec<&str> = preview
+        .stack
+        .layers
+        .iter()
+        .map(|l| l.name.as_str())
+        .collect();
+    assert!(
+        names.contains(&"rust") && names.contains(&"scratches"),
+        "{names:?}"
+    );
     // An unknown word shows the error instead and sets nothing more.
     h.get_by_role_and_label(Role::TextInput, "Say how old")
         .set_text_value_accesskit("very crusty");
@@ -544,5 +552,8 @@ fn the_say_box_fills_the_sliders_and_shows_what_it_set() {
     h.get_by_label("Say it").click();
     h.step();
     h.step();
-    assert!(h.query_by_label_contains("unknown word \"crusty\"").is_some());
+    assert!(
+        h.query_by_label_contains("unknown word \"crusty\"")
+            .is_some()
+    );
 }
