@@ -94,6 +94,9 @@ pub enum Error {
     /// A preset could not be parsed.
     #[error("preset: {0}")]
     Preset(String),
+    /// A `--say` sentence has a word grime does not know.
+    #[error("--say: {0}")]
+    Say(String),
     /// The output would overwrite an input.
     #[error("{path}: refusing to overwrite an input file; choose another output path")]
     WouldOverwriteInput {

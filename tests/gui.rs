@@ -559,3 +559,42 @@ fn scrubbing_the_age_shows_cached_frames_without_the_simulation_worker() {
         "the simulation worker never started"
     );
 }
+
+#[test]
+fn the_say_box_fills_the_sliders_and_shows_what_it_set() {
+    let mut h = facade_with(quick_preset());
+    h.get_by_role_and_label(Role::TextInput, "Say how old")
+        .set_text_value_accesskit("very rusty near the railings, slightly scratched");
+    h.step();
+    h.get_by_label("Say it").click();
+    h.step();
+    h.step();
+    let p = &h.state().document().unwrap().preset;
+    assert!(p.rust.enabled && p.scratches.enabled);
+    assert_eq!((p.rust.coverage, p.scratches.coverage), (0.55, 0.05));
+    assert_eq!(p.say, "very rusty near the railings, slightly scratched");
+    h.get_by_label("rust.coverage = 0.55");
+    settle(&mut h);
+    let preview = h.state().controller().preview().current().unwrap();
+    let names: Vec<&str> = preview
+        .stack
+        .layers
+        .iter()
+        .map(|l| l.name.as_str())
+        .collect();
+    assert!(
+        names.contains(&"rust") && names.contains(&"scratches"),
+        "{names:?}"
+    );
+    // An unknown word shows the error instead and sets nothing more.
+    h.get_by_role_and_label(Role::TextInput, "Say how old")
+        .set_text_value_accesskit("very crusty");
+    h.step();
+    h.get_by_label("Say it").click();
+    h.step();
+    h.step();
+    assert!(
+        h.query_by_label_contains("unknown word \"crusty\"")
+            .is_some()
+    );
+}

@@ -14,6 +14,11 @@ pub struct PresetFlags {
     /// Preset: a built-in name (see `grime preset --list`) or a .toml file.
     #[arg(long, value_name = "NAME|FILE")]
     pub preset: Option<String>,
+    /// Say how old, e.g. `--say "very rusty near the railings, slightly
+    /// scratched"`: adverbs (slightly .. completely) set coverage, applied
+    /// over the preset and before --set.
+    #[arg(long, value_name = "SENTENCE")]
+    pub say: Option<String>,
     /// Override one preset field, e.g. `--set rain.k_a=0.7` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -37,9 +42,10 @@ pub struct PresetFlags {
 }
 
 impl PresetFlags {
-    /// The preset after the file or name, then `--set`, `--layers`,
-    /// `--years`, `--seed`, then the clock ([`grime::clock`]); and the
-    /// fields the user pinned (`--max-memory` is set for the process).
+    /// The preset after the file or name, then `--say`, `--set`,
+    /// `--layers`, `--years`, `--seed`, then the clock ([`grime::clock`]);
+    /// and the fields the user pinned, the sentence's included
+    /// (`--max-memory` is set for the process).
     pub fn resolve(&self) -> anyhow::Result<(Preset, Pins)> {
         if let Some(bytes) = self.max_memory {
             grime::io::limits::set_max_memory(bytes);
@@ -60,6 +66,13 @@ impl PresetFlags {
                 Preset::from_toml(&text).with_context(|| file.clone())?
             }
         };
+        if let Some(sentence) = &self.say {
+            let said = grime::say::apply(&mut p, sentence)?;
+            pins = pins.union(Pins::of_keys(said.set.iter().map(|(k, _)| k.as_str())));
+            for note in said.notes {
+                eprintln!("grime: note: {note}");
+            }
+        }
         for s in &self.set {
             p.set(s)?;
         }

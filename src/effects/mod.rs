@@ -23,9 +23,11 @@
 //! file (a variant and its arms), and `preset/` (its params struct and
 //! PARAMS rows). README "How to add an effect" walks through it.
 
+pub mod climate;
 pub mod dust;
 pub mod gammaton;
 pub mod habitat;
+pub mod imperfections;
 pub mod moss;
 pub mod patches;
 pub mod percentile;
@@ -34,6 +36,9 @@ pub mod region;
 pub mod roughness;
 mod stages;
 pub mod surface;
+#[cfg(test)]
+pub(crate) mod testing;
+pub mod weathering;
 
 use std::collections::BTreeSet;
 use std::sync::Arc;
@@ -50,8 +55,9 @@ use crate::stack::Layer;
 
 pub use stages::RainStats;
 
-/// One weathering effect. The variants are in pipeline order: an effect may
-/// read what the ones before it produced.
+/// One weathering effect. [`Effect::ALL`] is the pipeline order (an effect
+/// may read what the ones before it produced); new variants go last, since
+/// a variant's number keys its random streams.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Effect {
@@ -64,11 +70,23 @@ pub enum Effect {
     /// γ-tons (Chen et al., Stadler): substances carried over the wall,
     /// one layer per substance.
     Gammaton,
+    /// Scratches, splotches, stains, mould and rust (Becket & Badler).
+    Imperfections,
+    /// Spotty, Roughy, Fade Towardy and Desaturaty driven by sun and
+    /// humidity (Riihiaho); first in the pipeline, under the grime.
+    Weathering,
 }
 
 impl Effect {
     /// Every effect, in the order the pipeline runs them.
-    pub const ALL: [Effect; 4] = [Effect::Rain, Effect::Moss, Effect::Dust, Effect::Gammaton];
+    pub const ALL: [Effect; 6] = [
+        Effect::Weathering,
+        Effect::Rain,
+        Effect::Moss,
+        Effect::Dust,
+        Effect::Gammaton,
+        Effect::Imperfections,
+    ];
 
     /// Its name in reports and timings.
     pub fn name(self) -> &'static str {
@@ -77,6 +95,8 @@ impl Effect {
             Effect::Moss => "moss",
             Effect::Dust => "dust",
             Effect::Gammaton => "gammaton",
+            Effect::Imperfections => "imperfections",
+            Effect::Weathering => "weathering",
         }
     }
 
@@ -88,6 +108,8 @@ impl Effect {
             Effect::Moss => preset.moss.enabled,
             Effect::Dust => preset.dust.enabled,
             Effect::Gammaton => preset.gammaton.enabled,
+            Effect::Imperfections => imperfections::enabled(preset),
+            Effect::Weathering => weathering::enabled(preset),
         }
     }
 
@@ -99,13 +121,18 @@ impl Effect {
             Effect::Moss => 0.105,
             Effect::Dust => 0.105,
             Effect::Gammaton => 0.3,
+            Effect::Imperfections | Effect::Weathering => 0.1,
         }
     }
 
     /// The effects whose products it reads.
     pub fn inputs(self) -> &'static [Effect] {
         match self {
-            Effect::Rain | Effect::Dust | Effect::Gammaton => &[],
+            Effect::Rain
+            | Effect::Dust
+            | Effect::Gammaton
+            | Effect::Imperfections
+            | Effect::Weathering => &[],
             Effect::Moss => &[Effect::Rain],
         }
     }
@@ -119,6 +146,24 @@ impl Effect {
             Effect::Dust => &["seed", "dust"],
             // Line sources default to the rain's ledges.
             Effect::Gammaton => &["seed", "sim", "gammaton", "rain.source_lines"],
+            Effect::Imperfections => &[
+                "seed",
+                "sim",
+                "scratches",
+                "splotches",
+                "stains",
+                "mould",
+                "rust",
+            ],
+            Effect::Weathering => &[
+                "seed",
+                "sim",
+                "climate",
+                "spotty",
+                "roughy",
+                "fade",
+                "desaturate",
+            ],
         }
     }
 
@@ -139,7 +184,11 @@ impl Effect {
                 "rain.layers" => new.rain.layers <= old.rain.layers && !read_by_enabled(self),
                 _ => false,
             },
-            Effect::Moss | Effect::Dust | Effect::Gammaton => false,
+            Effect::Moss
+            | Effect::Dust
+            | Effect::Gammaton
+            | Effect::Imperfections
+            | Effect::Weathering => false,
         }
     }
 
@@ -149,7 +198,11 @@ impl Effect {
     pub fn restyle(self, layer: &mut Layer, index: usize, preset: &Preset) {
         match self {
             Effect::Rain => stages::restyle_rain(layer, index, preset),
-            Effect::Moss | Effect::Dust | Effect::Gammaton => {}
+            Effect::Moss
+            | Effect::Dust
+            | Effect::Gammaton
+            | Effect::Imperfections
+            | Effect::Weathering => {}
         }
     }
 
@@ -169,13 +222,16 @@ impl Effect {
             Effect::Moss => stages::moss(ctx, products, preset, progress),
             Effect::Dust => stages::dust(ctx, preset, progress),
             Effect::Gammaton => gammaton::stage(ctx, products, preset, progress),
+            Effect::Imperfections => imperfections::stage(ctx, products, preset, progress),
+            Effect::Weathering => weathering::stage(ctx, products, preset, progress),
         }
     }
 }
 
 /// The read-only inputs every effect shares.
 pub struct Context<'a> {
-    /// The photo.
+    /// The photo (in the wall's plane with a quad), for effects that
+    /// change or follow its own colours.
     pub photo: &'a crate::photo::Photo,
     /// The simulation grid.
     pub grid: &'a Grid,
@@ -246,6 +302,10 @@ pub enum Stats {
     Dust(dust::DustStats),
     /// γ-tons emitted, settled, left; each substance's balance.
     Gammaton(gammaton::GammaStats),
+    /// Each imperfection's coverage of its placement area.
+    Imperfections(imperfections::ImperfectionStats),
+    /// Light, humidity and each generator's mean strength.
+    Weathering(weathering::WeatheringStats),
 }
 
 /// The effects whose output made with `old` is stale for `new`: those with
@@ -260,8 +320,12 @@ pub fn stale(old: &Preset, new: &Preset) -> BTreeSet<Effect> {
     let mut changed = Vec::new();
     crate::preset::diff_paths(&a, &b, String::new(), &mut changed);
     let mut out = BTreeSet::new();
-    // The clock's fields act through the fields it sets (crate::clock).
     for path in changed.iter().filter(|p| !covers("age", p)) {
+        // The clock's fields act through the fields it sets (crate::clock),
+        // and the sentence's through the fields it set.
+        if path == "say" {
+            continue;
+        }
         let owners: Vec<Effect> = Effect::ALL
             .into_iter()
             .filter(|e| e.params().iter().any(|p| covers(p, path)))

@@ -35,6 +35,7 @@ pub mod preview;
 pub mod prompt;
 pub mod proxy;
 pub mod render;
+pub mod say;
 pub mod state;
 pub mod status;
 pub mod toolbar;

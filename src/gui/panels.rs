@@ -59,6 +59,7 @@ pub fn side(ui: &mut Ui, ctl: &Controller, out: &mut Vec<Command>) {
                 });
             });
             seed(ui, preset, out);
+            super::say::panel(ui, preset, out);
             parameters(ui, preset, out);
         });
 }

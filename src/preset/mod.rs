@@ -9,14 +9,23 @@
 mod age;
 mod diff;
 mod gammaton;
+mod imperfections;
 mod params;
+mod sections;
+mod table;
+mod weathering;
 
 pub use age::AgeParams;
 pub use diff::diff_paths;
 pub use gammaton::{
     GammaSource, GammatonParams, MAX_SUBSTANCES, Rule, RuleKind, SourceKind, Stop, Substance,
 };
-pub use params::{PARAMS, ParamSpec, param};
+pub use imperfections::{
+    BlotchParams, Imperfection, MouldParams, Place, Placement, RustParams, ScratchParams,
+};
+pub use params::{ParamSpec, param};
+pub use table::PARAMS;
+pub use weathering::{ClimateParams, GeneratorParams};
 
 use serde::{Deserialize, Serialize};
 
@@ -42,6 +51,35 @@ pub struct Preset {
     pub dust: DustParams,
     /// γ-tons: substances carried over the wall (Chen et al., Stadler).
     pub gammaton: GammatonParams,
+    /// The sentence that set this preset's starting point (`--say`): it is
+    /// applied to the defaults, then the fields written here win.
+    pub say: String,
+    /// Scratches (Becket & Badler).
+    pub scratches: ScratchParams,
+    /// Splotches of mud or tar (Becket & Badler).
+    #[serde(deserialize_with = "sections::splotches")]
+    pub splotches: BlotchParams,
+    /// Water stains (Becket & Badler).
+    #[serde(deserialize_with = "sections::stains")]
+    pub stains: BlotchParams,
+    /// Mould (Becket & Badler).
+    pub mould: MouldParams,
+    /// Rust (Becket & Badler).
+    pub rust: RustParams,
+    /// Sun and humidity (Riihiaho eqs. 3.5-3.8).
+    pub climate: ClimateParams,
+    /// Spotty (Riihiaho eq. 3.12).
+    #[serde(deserialize_with = "sections::spotty")]
+    pub spotty: GeneratorParams,
+    /// Roughy (Riihiaho eq. 3.13).
+    #[serde(deserialize_with = "sections::roughy")]
+    pub roughy: GeneratorParams,
+    /// Fade Towardy (Riihiaho eqs. 3.14-3.15).
+    #[serde(deserialize_with = "sections::fade")]
+    pub fade: GeneratorParams,
+    /// Desaturaty (Riihiaho sec. 3.3.4).
+    #[serde(deserialize_with = "sections::desaturate")]
+    pub desaturate: GeneratorParams,
 }
 
 impl Default for Preset {
@@ -55,6 +93,17 @@ impl Default for Preset {
             moss: MossParams::default(),
             dust: DustParams::default(),
             gammaton: GammatonParams::default(),
+            say: String::new(),
+            scratches: ScratchParams::default(),
+            splotches: BlotchParams::splotches(),
+            stains: BlotchParams::stains(),
+            mould: MouldParams::default(),
+            rust: RustParams::default(),
+            climate: ClimateParams::default(),
+            spotty: GeneratorParams::spotty(),
+            roughy: GeneratorParams::roughy(),
+            fade: GeneratorParams::fade(),
+            desaturate: GeneratorParams::desaturate(),
         }
     }
 }
@@ -468,9 +517,14 @@ impl Preset {
     ///
     /// # Errors
     /// [`Error::Preset`] for bad TOML or unknown fields,
-    /// [`Error::OutOfRange`] for a value outside its documented range.
+    /// [`Error::OutOfRange`] for a value outside its documented range,
+    /// [`Error::Say`] for a `say` sentence grime cannot read.
     pub fn from_toml(text: &str) -> Result<Preset> {
-        let preset: Preset = toml::from_str(text).map_err(|e| Error::Preset(one_line(&e)))?;
+        let table: toml::Table = toml::from_str(text).map_err(|e| Error::Preset(one_line(&e)))?;
+        let preset: Preset = match table.get("say").and_then(toml::Value::as_str) {
+            Some(s) if !s.trim().is_empty() => sections::with_say(table)?,
+            _ => toml::from_str(text).map_err(|e| Error::Preset(one_line(&e)))?,
+        };
         preset.validate()?;
         Ok(preset)
     }

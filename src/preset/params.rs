@@ -15,7 +15,7 @@ pub struct ParamSpec {
     pub max: f64,
 }
 
-const fn p(
+pub(super) const fn p(
     path: &'static str,
     symbol: &'static str,
     doc: &'static str,
@@ -31,10 +31,8 @@ const fn p(
     }
 }
 
-/// Every numeric parameter. Validation, `grime preset default` comments and
-/// the GUI's sliders all read this table. Entries with `min == max` document
-/// a switch, a name or a list (never range-checked).
-pub const PARAMS: &[ParamSpec] = &[
+/// The core effects' parameters (rain, stain, moss, dust, γ-tons).
+pub(super) const CORE: &[ParamSpec] = &[
     p(
         "seed",
         "",
@@ -860,5 +858,5 @@ pub const PARAMS: &[ParamSpec] = &[
 
 /// Looks up a parameter's spec by dotted path.
 pub fn param(path: &str) -> Option<&'static ParamSpec> {
-    PARAMS.iter().find(|s| s.path == path)
+    super::PARAMS.iter().find(|s| s.path == path)
 }
