@@ -302,15 +302,26 @@ fn see(
     }
     let wants_region = region.is_none() && inputs.region == RegionMode::Auto;
     let wants_ledges = inputs.sources == SourcesMode::Auto && preset.rain.source_lines.is_empty();
-    if !wants_region && !wants_ledges && inputs.wall_width_m.is_none() {
-        return Ok((region, None));
-    }
     let opts = crate::analysis::Options {
         wall_width_m: inputs.wall_width_m,
         name: path.display().to_string(),
         ..crate::analysis::Options::default()
     };
-    let seen = crate::analysis::analyse(photo, &opts)?;
+    // The analysis always runs on a photo file: its scale sizes every
+    // effect, so a re-run from a recipe (which pins region and ledges)
+    // gets the same metres per pixel. Without a wall in sight, a run that
+    // needs neither region nor ledges goes on at the assumed scale.
+    let seen = match crate::analysis::analyse(photo, &opts) {
+        Ok(seen) => seen,
+        Err(Error::NoWall { .. }) if !wants_region && !wants_ledges => {
+            let mut site = Site::assumed(photo.width());
+            if let Some(m) = inputs.wall_width_m {
+                site.metres_per_pixel = m / photo.width().max(1) as f32;
+            }
+            return Ok((region, Some(site)));
+        }
+        Err(e) => return Err(e),
+    };
     if wants_region && seen.matte.as_raw().iter().all(|&v| v == 0) {
         return Err(Error::NoWall { name: opts.name });
     }

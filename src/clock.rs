@@ -162,7 +162,7 @@ mod tests {
             (d.rain.layers, d.moss.years, d.dust.days)
         );
         let p = at(&d, 30, Pins::none()).unwrap();
-        assert_eq!((p.rain.layers, p.moss.years, p.dust.days), (24, 30, 730));
+        assert_eq!((p.rain.layers, p.moss.years, p.dust.days), (24, 30, 10950));
         let p = at(&d, 0, Pins::none()).unwrap();
         assert_eq!((p.rain.layers, p.moss.years, p.dust.days), (0, 0, 0));
     }
@@ -175,7 +175,7 @@ mod tests {
         p.age.years = Some(30);
         let pins = Pins::of_keys(["rain.layers"]);
         let r = resolve(&p, pins).unwrap();
-        assert_eq!((r.rain.layers, r.moss.years, r.dust.days), (5, 30, 730));
+        assert_eq!((r.rain.layers, r.moss.years, r.dust.days), (5, 30, 10950));
         // Resolving again changes nothing: a recipe re-runs the same.
         assert_eq!(resolve(&r, pins).unwrap(), r);
         assert_eq!(pins_of(&r), pins);

@@ -17,13 +17,15 @@ use rand::Rng as _;
 
 /// The papers' own models, as these tests check them: Santos' dust at its
 /// 150 ppi over the whole wall, Chang's moss (eq. 18 alone, baseline 1/40
-/// of the wall) and uniform, unfaded rain.
+/// of the wall, a candidate per baseline^2 a year) and uniform, unfaded rain.
 fn papers() -> Preset {
     let mut p = Preset::default();
     p.dust.ppi = 150.0;
     p.dust.open_wall = 1.0;
     p.moss.baseline = 1.0 / 40.0;
     p.moss.open_wall = 1.0;
+    p.moss.seed_rate = 1.0;
+    p.moss.spread = 0.8;
     p.rain.drip_spacing_m = 0.0;
     p.rain.end_share = 0.0;
     p.rain.fall_m = 0.0;

@@ -136,12 +136,16 @@ impl Scene {
                 _ => false,
             }
         }
+        // The ground line holds NaN where there is none: compare bits.
+        fn same_bits(a: &[f32], b: &[f32]) -> bool {
+            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+        }
         Arc::ptr_eq(&self.photo, &other.photo)
             && same(&self.region, &other.region)
             && same(&self.normals, &other.normals)
             && self.quad == other.quad
             && self.site.metres_per_pixel == other.site.metres_per_pixel
-            && self.site.ground == other.site.ground
+            && same_bits(&self.site.ground, &other.site.ground)
             && self.site.ledges == other.site.ledges
             && same(&self.site.shelter, &other.site.shelter)
     }

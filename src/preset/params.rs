@@ -759,7 +759,7 @@ pub(super) const CORE: &[ParamSpec] = &[
     p(
         "gammaton.sources",
         "",
-        "Sources: [{ kind = \"sky\" | \"ground\" | \"line\", share, points = [[x, y], ...] (photo pixels, line only), carries = [amount per substance] }]",
+        "Sources: [{ kind = \"sky\" | \"ground\" | \"line\" | \"mask\", share, points = [[x, y], ...] (photo pixels, line only), mask = \"painted.png\" (mask only: greyscale, the photo's size, white = emit; relative to the working folder), carries = [amount per substance] }]",
         0.0,
         0.0,
     ),
