@@ -19,6 +19,7 @@
 //! - [`state`]: the document and the project file, plain data.
 //! - [`automation`]: scripted runs (`--screenshot`, `--quit-after-frames`).
 
+pub mod analyser;
 pub mod app;
 pub mod automation;
 pub mod canvas;
