@@ -239,8 +239,8 @@ fn glass(f: &Features, class: &mut [Class]) {
     if wall_l.len() < w * h / 10 {
         return;
     }
-    wall_l.sort_by(f32::total_cmp);
-    let median = wall_l[wall_l.len() / 2];
+    let mid = wall_l.len() / 2;
+    let median = *wall_l.select_nth_unstable_by(mid, f32::total_cmp).1;
     let cand: Vec<bool> = (0..w * h)
         .map(|i| class[i] == Class::Wall && f.luma[i] < 0.62 * median && f.texture[i] < 0.08)
         .collect();
@@ -335,10 +335,16 @@ pub fn upsample(small: &[f32], f: &Features, pw: u32, ph: u32) -> GrayImage {
         .for_each(|(y, row)| {
             let (y0, y1, ty) = tap((y as f32 + 0.5) / f.sy - 0.5, h);
             let (r0, r1) = (&small[y0 * w..(y0 + 1) * w], &small[y1 * w..(y1 + 1) * w]);
+            // Vertically first, once per analysis column, in 0..255.
+            let v: Vec<f32> = r0
+                .iter()
+                .zip(r1)
+                .map(|(a, b)| (a + (b - a) * ty) * 255.0)
+                .collect();
             for (o, &(x0, x1, tx)) in row.iter_mut().zip(&xs) {
-                let top = r0[x0] + (r0[x1] - r0[x0]) * tx;
-                let bot = r1[x0] + (r1[x1] - r1[x0]) * tx;
-                *o = ((top + (bot - top) * ty) * 255.0).round() as u8;
+                let a = v[x0];
+                // The matte is in 0..1, so +0.5 then truncation rounds.
+                *o = (a + (v[x1] - a) * tx + 0.5) as u8;
             }
         });
     GrayImage::from_raw(pw, ph, out).expect("buffer has the photo's size")
