@@ -136,11 +136,15 @@ pub fn box_mean(src: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
             let mut acc = vec![0f64; sw];
             let mut part = vec![0f32; sw * h];
             for y in 0..r.min(h) {
-                acc.iter_mut().zip(col(y)).for_each(|(a, &v)| *a += v as f64);
+                acc.iter_mut()
+                    .zip(col(y))
+                    .for_each(|(a, &v)| *a += v as f64);
             }
             for y in 0..h {
                 if y + r < h {
-                    acc.iter_mut().zip(col(y + r)).for_each(|(a, &v)| *a += v as f64);
+                    acc.iter_mut()
+                        .zip(col(y + r))
+                        .for_each(|(a, &v)| *a += v as f64);
                 }
                 if y > r {
                     acc.iter_mut()
