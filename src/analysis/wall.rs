@@ -199,7 +199,7 @@ fn ground(f: &Features, class: &mut [Class]) {
             let part = flood(&cand, w, h, seeds, |i, j| {
                 l1(f.rgb_at(i), f.rgb_at(j)) < GROUND_STEP
             });
-            if !like_above(&part, &at, w, h) {
+            if !like_above(&part, &at, w, h, top) {
                 g.iter_mut().zip(&part).for_each(|(a, &b)| *a |= b);
             }
         }
@@ -225,18 +225,29 @@ fn ground(f: &Features, class: &mut [Class]) {
 }
 
 /// True when what lies above the top of `part` (a twelfth of the height
-/// up) looks like the part itself (median colours): a brick of a close-up,
-/// the foot of a facade, not a road.
-fn like_above(part: &[bool], at: &dyn Fn(usize) -> [f32; 3], w: usize, h: usize) -> bool {
-    let (mut above, mut inside) = (Vec::new(), Vec::new());
+/// up) looks like the part itself (median colours), or when a third of its
+/// columns run up to the `top` limit: a brick of a close-up, the foot of a
+/// facade, not a road.
+fn like_above(
+    part: &[bool],
+    at: &dyn Fn(usize) -> [f32; 3],
+    w: usize,
+    h: usize,
+    top: usize,
+) -> bool {
+    let (mut above, mut inside, mut at_cap) = (Vec::new(), Vec::new(), 0);
     for x in 0..w {
         if let Some(y) = (0..h).find(|&y| part[y * w + x]) {
+            at_cap += (y == top) as usize;
             above.push(at(y.saturating_sub(h / 12) * w + x));
             inside.push(at((y + h / 24).min(h - 1) * w + x));
         }
     }
     if above.is_empty() {
         return false;
+    }
+    if at_cap * 3 > above.len() {
+        return true;
     }
     let (a, b) = (median3(&mut above), median3(&mut inside));
     (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>() < 0.06
