@@ -32,7 +32,6 @@ pub mod grid;
 #[cfg(feature = "gui")]
 pub mod gui;
 pub mod io;
-pub mod ledges;
 pub mod masks;
 pub mod perspective;
 pub mod photo;

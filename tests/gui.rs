@@ -598,3 +598,56 @@ fn the_say_box_fills_the_sliders_and_shows_what_it_set() {
             .is_some()
     );
 }
+
+#[test]
+fn auto_region_and_detect_ledges_come_from_the_scene_analysis() {
+    let mut h = facade_with(quick_preset());
+    let sample = h.state().document().unwrap().mask.clone();
+    click(&mut h, "Clear");
+    assert_eq!(mask_count(&h, 1), 0);
+    click(&mut h, "Auto region");
+    settle(&mut h);
+    // The sample's own region is the wall without sky and windows: the
+    // analysis keeps all of that wall, and leaves out the sky and the glass
+    // (it keeps window frames, which the sample cuts out with the glass).
+    let mask = h.state().document().unwrap().mask.clone();
+    let (wh, ht) = (mask.width(), mask.height());
+    let lost = mask
+        .iter()
+        .zip(sample.iter())
+        .filter(|&(a, b)| *a < 128 && *b >= 128)
+        .count();
+    assert!(lost * 100 < mask.len(), "{lost} wall pixels lost");
+    assert_eq!(mask.get_pixel(wh / 2, 2)[0], 0, "the sky is not wall");
+    for win in grime::demo::layout(wh, ht).windows {
+        let (x, y) = (win.0 + (win.2 - win.0) / 4, (win.1 + win.3) / 2);
+        assert!(mask.get_pixel(x, y)[0] < 128, "glass at {x},{y} is wall");
+    }
+    let auto = mask_count(&h, 128);
+
+    // Editable with the eraser, and undone one step at a time.
+    click(&mut h, "Eraser");
+    drag(&mut h, (0.2, 0.5), (0.8, 0.5));
+    assert!(mask_count(&h, 128) < auto);
+    click(&mut h, "Undo");
+    assert_eq!(mask_count(&h, 128), auto);
+    click(&mut h, "Undo");
+    assert_eq!(mask_count(&h, 1), 0, "auto region is one undo step");
+    click(&mut h, "Redo");
+    assert_eq!(mask_count(&h, 128), auto);
+
+    // Detect ledges: the analysis's sills, cornice and roof line, once.
+    click(&mut h, "Edit");
+    click(&mut h, "Remove all source lines");
+    assert!(h.state().document().unwrap().lines.is_empty());
+    click(&mut h, "Detect ledges");
+    settle(&mut h);
+    let lines = h.state().document().unwrap().lines.clone();
+    assert!(lines.len() >= 5, "{lines:?}");
+    click(&mut h, "Detect ledges");
+    settle(&mut h);
+    assert_eq!(h.state().document().unwrap().lines, lines, "no repeats");
+    click(&mut h, "Undo");
+    assert!(h.state().document().unwrap().lines.is_empty());
+    settle(&mut h);
+}

@@ -72,6 +72,9 @@ pub struct Metrics {
     pub detections: usize,
     /// Detections that lie on a labelled ledge.
     pub detections_ok: usize,
+    /// Per kind (in [`LedgeKind`] order): detections, and those on a
+    /// labelled ledge.
+    pub by_kind: [(usize, usize); 7],
     /// Photos with a storey height to compare with.
     pub scale_n: usize,
     /// Of those, estimates within a factor 1.5.
@@ -79,6 +82,17 @@ pub struct Metrics {
     /// Sum of analysis times, ms.
     pub ms: f64,
 }
+
+/// The kinds, in declaration order (index = `kind as usize`).
+const KINDS: [LedgeKind; 7] = [
+    LedgeKind::Sill,
+    LedgeKind::Cornice,
+    LedgeKind::Coping,
+    LedgeKind::WindowHead,
+    LedgeKind::Balcony,
+    LedgeKind::StringCourse,
+    LedgeKind::RoofLine,
+];
 
 /// Share of pixels called wall by the matte.
 fn is_wall(a: &Analysis, i: usize) -> bool {
@@ -162,7 +176,11 @@ impl Metrics {
                     })
                 })
                 .count() as i64;
-            self.detections_ok += (2 * hit >= cols) as usize;
+            let ok = 2 * hit >= cols;
+            self.detections_ok += ok as usize;
+            let k = &mut self.by_kind[l.kind as usize];
+            k.0 += 1;
+            k.1 += ok as usize;
         }
         if let (Some(storey), Some(a)) = (t.storey_px, a) {
             self.scale_n += 1;
@@ -226,6 +244,17 @@ impl Metrics {
                 self.detections_ok,
                 self.detections
             );
+            for kind in KINDS {
+                let (n, ok) = self.by_kind[kind as usize];
+                if n > 0 {
+                    let _ = writeln!(
+                        s,
+                        "  {:14} {:.3} ({ok}/{n})",
+                        kind.label(),
+                        ok as f64 / n as f64
+                    );
+                }
+            }
         }
         if self.scale_n > 0 {
             let _ = writeln!(

@@ -47,14 +47,14 @@ impl Features {
             DynamicImage::ImageRgba8(i) => (Cow::Borrowed(i.as_raw()), 4),
             other => (Cow::Owned(other.to_rgb8().into_raw()), 3),
         };
+        let xspans: Vec<(usize, usize)> = (0..w).map(|ox| span(ox, w, pw)).collect();
         let mut px = vec![[0f32; 3]; w * h];
         px.par_chunks_mut(w).enumerate().for_each(|(oy, row)| {
             let (y0, y1) = span(oy, h, ph);
             let mut acc = vec![[0u32; 3]; w];
             for y in y0..y1 {
                 let line = &raw[y * pw * ch..(y + 1) * pw * ch];
-                for (ox, a) in acc.iter_mut().enumerate() {
-                    let (x0, x1) = span(ox, w, pw);
+                for (a, &(x0, x1)) in acc.iter_mut().zip(&xspans) {
                     for p in line[x0 * ch..x1 * ch].chunks_exact(ch) {
                         a[0] += p[0] as u32;
                         a[1] += p[1] as u32;
@@ -62,8 +62,7 @@ impl Features {
                     }
                 }
             }
-            for (ox, (o, a)) in row.iter_mut().zip(&acc).enumerate() {
-                let (x0, x1) = span(ox, w, pw);
+            for ((o, a), &(x0, x1)) in row.iter_mut().zip(&acc).zip(&xspans) {
                 let n = ((x1 - x0) * (y1 - y0)) as f32 * 255.0;
                 *o = [a[0] as f32 / n, a[1] as f32 / n, a[2] as f32 / n];
             }
@@ -75,14 +74,14 @@ impl Features {
             .map(|p| 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2])
             .collect();
         let mut grad = vec![0f32; w * h];
-        for y in 0..h {
-            for x in 0..w {
-                let at = |x: usize, y: usize| luma[y * w + x];
-                let gx = at((x + 1).min(w - 1), y) - at(x.saturating_sub(1), y);
-                let gy = at(x, (y + 1).min(h - 1)) - at(x, y.saturating_sub(1));
-                grad[y * w + x] = gx.abs() + gy.abs();
+        grad.par_chunks_mut(w).enumerate().for_each(|(y, out)| {
+            let row = |y: usize| &luma[y * w..(y + 1) * w];
+            let (up, here, down) = (row(y.saturating_sub(1)), row(y), row((y + 1).min(h - 1)));
+            for (x, g) in out.iter_mut().enumerate() {
+                let gx = here[(x + 1).min(w - 1)] - here[x.saturating_sub(1)];
+                *g = gx.abs() + (down[x] - up[x]).abs();
             }
-        }
+        });
         let r = (w.max(h) / 256).max(2);
         let texture = box_mean(&grad, w, h, r);
         Features {
@@ -110,37 +109,60 @@ fn span(o: usize, n: usize, len: usize) -> (usize, usize) {
 }
 
 /// Mean over a (2r+1)^2 box, clipped at the borders (separable running
-/// sums: rows, then a sliding sum of whole rows).
+/// sums: each row, then a sliding sum down each stripe of columns; rows and
+/// stripes in parallel, the same sums at any thread count).
 pub fn box_mean(src: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
     let mut tmp = vec![0f32; w * h];
-    let mut prefix = vec![0f64; w + 1];
-    for y in 0..h {
-        let row = &src[y * w..(y + 1) * w];
-        for x in 0..w {
-            prefix[x + 1] = prefix[x] + row[x] as f64;
-        }
-        for (x, t) in tmp[y * w..(y + 1) * w].iter_mut().enumerate() {
-            let (a, b) = (x.saturating_sub(r), (x + r + 1).min(w));
-            *t = ((prefix[b] - prefix[a]) / (b - a) as f64) as f32;
-        }
-    }
-    let mut acc = vec![0f64; w];
+    tmp.par_chunks_mut(w)
+        .zip(src.par_chunks(w))
+        .for_each(|(out, row)| {
+            let mut prefix = vec![0f64; w + 1];
+            for x in 0..w {
+                prefix[x + 1] = prefix[x] + row[x] as f64;
+            }
+            for (x, t) in out.iter_mut().enumerate() {
+                let (a, b) = (x.saturating_sub(r), (x + r + 1).min(w));
+                *t = ((prefix[b] - prefix[a]) / (b - a) as f64) as f32;
+            }
+        });
     let mut out = vec![0f32; w * h];
-    for row in tmp.chunks_exact(w).take(r.min(h)) {
-        acc.iter_mut().zip(row).for_each(|(a, &v)| *a += v as f64);
-    }
-    for y in 0..h {
-        if y + r < h {
-            let add = &tmp[(y + r) * w..(y + r + 1) * w];
-            acc.iter_mut().zip(add).for_each(|(a, &v)| *a += v as f64);
-        }
-        if y > r {
-            let sub = &tmp[(y - r - 1) * w..(y - r) * w];
-            acc.iter_mut().zip(sub).for_each(|(a, &v)| *a -= v as f64);
-        }
-        let n = ((y + r + 1).min(h) - y.saturating_sub(r)) as f64;
-        for (o, &a) in out[y * w..(y + 1) * w].iter_mut().zip(&acc) {
-            *o = (a / n) as f32;
+    const STRIPE: usize = 64;
+    let stripes: Vec<(usize, Vec<f32>)> = (0..w.div_ceil(STRIPE))
+        .into_par_iter()
+        .map(|s| {
+            let (x0, x1) = (s * STRIPE, ((s + 1) * STRIPE).min(w));
+            let sw = x1 - x0;
+            let col = |y: usize| &tmp[y * w + x0..y * w + x1];
+            let mut acc = vec![0f64; sw];
+            let mut part = vec![0f32; sw * h];
+            for y in 0..r.min(h) {
+                acc.iter_mut()
+                    .zip(col(y))
+                    .for_each(|(a, &v)| *a += v as f64);
+            }
+            for y in 0..h {
+                if y + r < h {
+                    acc.iter_mut()
+                        .zip(col(y + r))
+                        .for_each(|(a, &v)| *a += v as f64);
+                }
+                if y > r {
+                    acc.iter_mut()
+                        .zip(col(y - r - 1))
+                        .for_each(|(a, &v)| *a -= v as f64);
+                }
+                let n = ((y + r + 1).min(h) - y.saturating_sub(r)) as f64;
+                for (o, &a) in part[y * sw..(y + 1) * sw].iter_mut().zip(&acc) {
+                    *o = (a / n) as f32;
+                }
+            }
+            (x0, part)
+        })
+        .collect();
+    for (x0, part) in stripes {
+        let sw = part.len() / h.max(1);
+        for (y, row) in part.chunks_exact(sw).enumerate() {
+            out[y * w + x0..y * w + x0 + sw].copy_from_slice(row);
         }
     }
     out
@@ -158,6 +180,23 @@ mod tests {
         spike[12] = 9.0;
         let m = box_mean(&spike, 5, 5, 1);
         assert!((m[12] - 1.0).abs() < 1e-6 && m[0] == 0.0);
+    }
+
+    #[test]
+    fn box_mean_matches_the_direct_sum_across_stripes() {
+        let (w, h, r) = (150, 23, 4);
+        let src: Vec<f32> = (0..w * h).map(|i| ((i * 7919) % 101) as f32).collect();
+        let m = box_mean(&src, w, h, r);
+        for (y, x) in [(0usize, 0usize), (5, 63), (11, 64), (22, 149), (17, 128)] {
+            let (mut sum, mut n) = (0.0, 0.0);
+            for yy in y.saturating_sub(r)..(y + r + 1).min(h) {
+                for xx in x.saturating_sub(r)..(x + r + 1).min(w) {
+                    sum += src[yy * w + xx];
+                    n += 1.0;
+                }
+            }
+            assert!((m[y * w + x] - sum / n).abs() < 1e-3, "{x},{y}");
+        }
     }
 
     #[test]

@@ -2,9 +2,9 @@
 //! dark below (the lit top and shadowed underside of a projecting ledge),
 //! traced column by column so that perspective slants and small gaps are
 //! followed, fitted with least-squares lines, then named by what is above
-//! and below them (glass above: sill; glass below: window head; long near the
-//! wall top: cornice or coping). The roof line is where the wall meets the
-//! sky.
+//! and below them (glass above: sill; glass below, or a dark that goes on
+//! below instead of a thin shadow band: window head; long near the wall top:
+//! cornice or coping). The roof line is where the wall meets the sky.
 
 use super::features::{Features, box_mean};
 use super::wall::Class;
@@ -267,6 +267,9 @@ fn kind_of(f: &Features, class: &[Class], fit: &Fit) -> LedgeKind {
     if below > 0.35 {
         return LedgeKind::WindowHead;
     }
+    if stays_dark(f, fit) {
+        return LedgeKind::WindowHead;
+    }
     if above > 0.25 {
         return LedgeKind::Sill;
     }
@@ -291,6 +294,32 @@ fn kind_of(f: &Features, class: &[Class], fit: &Fit) -> LedgeKind {
     } else {
         LedgeKind::Sill
     }
+}
+
+/// True when the dark below the edge does not end in a thin shadow band
+/// but goes on (glass, a doorway, an opening): the edge is the top of an
+/// opening, not a projecting ledge.
+fn stays_dark(f: &Features, fit: &Fit) -> bool {
+    let (w, h) = (f.w, f.h);
+    let d = (0.04 * h as f32).max(4.0) as isize;
+    let mean = |d0: isize, d1: isize| {
+        let (mut s, mut n) = (0f32, 0usize);
+        for x in fit.x0 as usize..=(fit.x1 as usize).min(w - 1) {
+            let y = fit.y_at(x as f32).round() as isize;
+            for yy in (y + d0)..(y + d1) {
+                if yy >= 0 && (yy as usize) < h {
+                    s += f.luma[yy as usize * w + x];
+                    n += 1;
+                }
+            }
+        }
+        s / n.max(1) as f32
+    };
+    let above = mean(-d, -1);
+    let near = mean(2, 2 + d / 3);
+    let far = mean(d, 2 * d);
+    // Recovered less than 30% of the step: still dark.
+    far - near < 0.3 * (above - near)
 }
 
 /// Where wall lies just under sky: runs of columns, sampled every few
@@ -332,4 +361,37 @@ fn roof_line(class: &[Class], w: usize, h: usize) -> Vec<Ledge> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::photo::Photo;
+
+    #[test]
+    fn a_dark_that_goes_on_below_is_a_window_head_a_thin_shadow_is_not() {
+        // Wall 0.7; a ledge whose shadow ends 4 rows down at y 60; the top
+        // of a tall opening (too big to be glass) at y 120.
+        let img = image::RgbImage::from_fn(200, 200, |x, y| {
+            let v = match (x, y) {
+                (30..170, 60..64) => 0.3,
+                (30..170, 120..190) => 0.2,
+                _ => 0.7,
+            };
+            image::Rgb([(v * 255.0) as u8; 3])
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 200);
+        let ledges = detect(&f, &vec![Class::Wall; 200 * 200]);
+        let at = |y: f32| {
+            ledges
+                .iter()
+                .find(|l| (l.polyline[0][1] - y).abs() < 4.0)
+                .map(|l| l.kind)
+        };
+        assert!(
+            at(61.0).is_some_and(|k| k != LedgeKind::WindowHead),
+            "{ledges:?}"
+        );
+        assert_eq!(at(121.0), Some(LedgeKind::WindowHead), "{ledges:?}");
+    }
 }

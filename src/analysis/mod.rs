@@ -139,9 +139,9 @@ pub struct Timings {
     pub features_ms: f32,
     /// Classes.
     pub classes_ms: f32,
-    /// Ledges, shelter and scale.
+    /// Ledges and shelter (alongside the matte's refinement).
     pub ledges_ms: f32,
-    /// Matte refinement and upsampling.
+    /// Matte refinement (alongside the ledges) and upsampling.
     pub matte_ms: f32,
     /// Everything.
     pub total_ms: f32,
@@ -189,12 +189,17 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
     let t1 = Instant::now();
     let classes = wall::classify(&f);
     let t_classes = ms(t1);
-    let t2 = Instant::now();
-    let ledges = ledges::detect(&f, &classes);
-    let shelter = shelter::map(&f, &ledges);
-    let t_ledges = ms(t2);
     let t3 = Instant::now();
-    let small = wall::refine(&f, &classes);
+    // Ledges and the matte need only the classes: side by side.
+    let ((ledges, shelter, t_ledges), small) = rayon::join(
+        || {
+            let t2 = Instant::now();
+            let ledges = ledges::detect(&f, &classes);
+            let shelter = shelter::map(&f, &ledges);
+            (ledges, shelter, ms(t2))
+        },
+        || wall::refine(&f, &classes),
+    );
     let wall_fraction = small.iter().sum::<f32>() / small.len().max(1) as f32;
     if wall_fraction < 0.01 {
         return Err(Error::NoWall {

@@ -45,6 +45,10 @@ impl Class {
 /// Sky is smoother than this (mean luma gradient).
 const SKY_TEXTURE: f32 = 0.05;
 
+/// Sky this much bluer than red (0..1) seeds the sky fill wherever it is
+/// in the upper half.
+const CLEAR_BLUE: f32 = 0.25;
+
 /// Below this share of non-wall pixels the photo is a close-up: all wall.
 const CLOSE_UP: f32 = 0.02;
 
@@ -78,7 +82,14 @@ pub fn classify(f: &Features) -> Vec<Class> {
         let (a, b) = (f.rgb_at(i), f.rgb_at(j));
         (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>() < 0.08
     };
-    let core = flood(&sky_cand, w, h, (0..w).collect(), smooth_step);
+    // Seeds: the top row, and clear blue sky in the upper half (seen
+    // between branches or beside a tower, not touching the top).
+    let mut seeds: Vec<usize> = (0..w).collect();
+    seeds.extend((0..h / 2 * w).filter(|&i| {
+        let [r, g, b] = f.rgb_at(i);
+        b - r > CLEAR_BLUE && b > g && f.texture[i] < SKY_TEXTURE
+    }));
+    let core = flood(&sky_cand, w, h, seeds, smooth_step);
     // Then up to the roof edge, where the texture window already sees the roof.
     let seeds = (0..n).filter(|&i| core[i]).collect();
     let sky = flood(&sky_colour, w, h, seeds, smooth_step);
@@ -139,73 +150,71 @@ fn flood(
     seen
 }
 
-/// Ground: unsaturated, like the bottom rows' colour (smoothed), not too
-/// textured, connected to the bottom edge, below 45% of the height. Refused
-/// when it only stops at that limit and looks like what lies above it (a
-/// close-up's texture reaches the bottom too).
+/// Ground: connected to the bottom edge, below 45% of the height, smooth,
+/// not strongly coloured. Each wide stretch of such pixels on the bottom row
+/// (a road, a pavement: not the foot of a brick) grows with its own colour
+/// model, and the fill does not cross a colour step (a kerb, the foot of
+/// the wall). A stretch's ground is refused when it looks like what lies
+/// above it, and all ground when it nearly everywhere stops at the 45%
+/// limit (a close-up's texture, a facade down to the photo's edge, reach
+/// the bottom too).
 fn ground(f: &Features, class: &mut [Class]) {
     let (w, h) = (f.w, f.h);
-    let band = (h / 20).max(1);
     let r = (w.max(h) / 150).max(1);
     let smooth: Vec<Vec<f32>> = f.rgb.iter().map(|p| box_mean(p, w, h, r)).collect();
     let at = |i: usize| [smooth[0][i], smooth[1][i], smooth[2][i]];
-    let mut bottom: Vec<[f32; 3]> = ((h - band) * w..h * w)
-        .filter(|&i| class[i] == Class::Wall)
-        .map(at)
-        .collect();
-    if bottom.len() < w / 4 {
-        return;
-    }
-    let model = median3(&mut bottom);
     let top = h * 45 / 100;
-    let cand: Vec<bool> = (0..w * h)
+    let basic: Vec<bool> = (0..w * h)
         .map(|i| {
             let c = at(i);
-            let d = (0..3).map(|k| (c[k] - model[k]).abs()).sum::<f32>();
             let (mx, mn) = (c[0].max(c[1]).max(c[2]), c[0].min(c[1]).min(c[2]));
             let sat = (mx - mn) / mx.max(1e-3);
             i / w >= top
                 && class[i] == Class::Wall
                 && f.texture[i] < GROUND_TEXTURE
-                && sat < 0.3
-                && d < 0.25
+                && sat < GROUND_SATURATION
         })
         .collect();
-    // Each stretch of the bottom row is a seed; only wide ones (a road, not
-    // the foot of a brick) make ground.
+    let l1 = |a: [f32; 3], b: [f32; 3]| (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>();
+    let row = (h - 1) * w;
     let mut g = vec![false; w * h];
     let mut x = 0;
     while x < w {
         let start = x;
-        while x < w && cand[(h - 1) * w + x] {
+        // A stretch ends where ground stops or the colour steps (road to
+        // pavement).
+        while x < w
+            && basic[row + x]
+            && (x == start || l1(f.rgb_at(row + x), f.rgb_at(row + x - 1)) < GROUND_STEP)
+        {
             x += 1;
         }
         if x - start >= w / 8 {
-            let seeds = ((h - 1) * w + start..(h - 1) * w + x).collect();
-            let part = flood(&cand, w, h, seeds, |_, _| true);
-            g.iter_mut().zip(&part).for_each(|(a, &b)| *a |= b);
+            let mut stretch: Vec<[f32; 3]> = (start..x).map(|c| at(row + c)).collect();
+            let model = median3(&mut stretch);
+            let cand: Vec<bool> = (0..w * h)
+                .map(|i| basic[i] && l1(at(i), model) < GROUND_COLOUR)
+                .collect();
+            let seeds = (row + start..row + x).collect();
+            let part = flood(&cand, w, h, seeds, |i, j| {
+                l1(f.rgb_at(i), f.rgb_at(j)) < GROUND_STEP
+            });
+            if !like_above(&part, &at, w, h, top) {
+                g.iter_mut().zip(&part).for_each(|(a, &b)| *a |= b);
+            }
         }
-        x += 1;
+        if x == start {
+            x += 1;
+        }
     }
-    // Where does the ground end in each column, and what lies above it?
     let (mut at_cap, mut cols) = (0, 0);
-    let mut above = Vec::new();
-    let mut inside = Vec::new();
     for x in 0..w {
         if let Some(y) = (top..h).find(|&y| g[y * w + x]) {
             cols += 1;
             at_cap += (y == top) as usize;
-            let ya = y.saturating_sub(h / 12);
-            above.push(at(ya * w + x));
-            inside.push(at((y + h / 24).min(h - 1) * w + x));
         }
     }
-    if cols == 0 {
-        return;
-    }
-    let (a, b) = (median3(&mut above), median3(&mut inside));
-    let d = (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>();
-    if at_cap * 2 > cols && d < 0.1 {
+    if cols == 0 || at_cap * 10 > cols * 9 {
         return;
     }
     for (c, &is) in class.iter_mut().zip(&g) {
@@ -214,6 +223,43 @@ fn ground(f: &Features, class: &mut [Class]) {
         }
     }
 }
+
+/// True when what lies above the top of `part` (a twelfth of the height
+/// up) looks like the part itself (median colours), or when a third of its
+/// columns run up to the `top` limit: a brick of a close-up, the foot of a
+/// facade, not a road.
+fn like_above(
+    part: &[bool],
+    at: &dyn Fn(usize) -> [f32; 3],
+    w: usize,
+    h: usize,
+    top: usize,
+) -> bool {
+    let (mut above, mut inside, mut at_cap) = (Vec::new(), Vec::new(), 0);
+    for x in 0..w {
+        if let Some(y) = (0..h).find(|&y| part[y * w + x]) {
+            at_cap += (y == top) as usize;
+            above.push(at(y.saturating_sub(h / 12) * w + x));
+            inside.push(at((y + h / 24).min(h - 1) * w + x));
+        }
+    }
+    if above.is_empty() {
+        return false;
+    }
+    if at_cap * 3 > above.len() {
+        return true;
+    }
+    let (a, b) = (median3(&mut above), median3(&mut inside));
+    (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>() < 0.06
+}
+
+/// Ground is less saturated than this.
+const GROUND_SATURATION: f32 = 0.45;
+/// Ground lies within this colour distance (L1, 0..3) of its stretch of
+/// the bottom row.
+const GROUND_COLOUR: f32 = 0.5;
+/// The ground fill stops at a colour step this large between neighbours.
+const GROUND_STEP: f32 = 0.2;
 
 /// Ground this textured (mean luma gradient) or more is not ground.
 const GROUND_TEXTURE: f32 = 0.15;
@@ -239,8 +285,8 @@ fn glass(f: &Features, class: &mut [Class]) {
     if wall_l.len() < w * h / 10 {
         return;
     }
-    wall_l.sort_by(f32::total_cmp);
-    let median = wall_l[wall_l.len() / 2];
+    let mid = wall_l.len() / 2;
+    let median = *wall_l.select_nth_unstable_by(mid, f32::total_cmp).1;
     let cand: Vec<bool> = (0..w * h)
         .map(|i| class[i] == Class::Wall && f.luma[i] < 0.62 * median && f.texture[i] < 0.08)
         .collect();
@@ -335,10 +381,16 @@ pub fn upsample(small: &[f32], f: &Features, pw: u32, ph: u32) -> GrayImage {
         .for_each(|(y, row)| {
             let (y0, y1, ty) = tap((y as f32 + 0.5) / f.sy - 0.5, h);
             let (r0, r1) = (&small[y0 * w..(y0 + 1) * w], &small[y1 * w..(y1 + 1) * w]);
+            // Vertically first, once per analysis column, in 0..255.
+            let v: Vec<f32> = r0
+                .iter()
+                .zip(r1)
+                .map(|(a, b)| (a + (b - a) * ty) * 255.0)
+                .collect();
             for (o, &(x0, x1, tx)) in row.iter_mut().zip(&xs) {
-                let top = r0[x0] + (r0[x1] - r0[x0]) * tx;
-                let bot = r1[x0] + (r1[x1] - r1[x0]) * tx;
-                *o = ((top + (bot - top) * ty) * 255.0).round() as u8;
+                let a = v[x0];
+                // The matte is in 0..1, so +0.5 then truncation rounds.
+                *o = (a + (v[x1] - a) * tx + 0.5) as u8;
             }
         });
     GrayImage::from_raw(pw, ph, out).expect("buffer has the photo's size")
@@ -349,4 +401,38 @@ fn tap(c: f32, n: usize) -> (usize, usize, f32) {
     let c = c.clamp(0.0, (n - 1) as f32);
     let a = c.floor() as usize;
     (a, (a + 1).min(n - 1), c - a as f32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::photo::Photo;
+
+    #[test]
+    fn a_road_and_a_pavement_of_other_greys_are_both_ground() {
+        // An orange wall over a dark road; a pale pavement along the
+        // bottom-left. Each stretch of the bottom row is its own ground.
+        let (w, h) = (200u32, 160u32);
+        let img = image::RgbImage::from_fn(w, h, |x, y| {
+            image::Rgb(if y < h * 6 / 10 {
+                [204, 128, 76]
+            } else if y >= h * 9 / 10 && x < w / 2 {
+                [166; 3]
+            } else {
+                [90; 3]
+            })
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 200);
+        let class = classify(&f);
+        let below = (h as usize * 6 / 10 + 3) * w as usize;
+        let ground = class[below..]
+            .iter()
+            .filter(|&&c| c == Class::Ground)
+            .count();
+        assert!(
+            ground as f32 > 0.9 * (class.len() - below) as f32,
+            "{ground}"
+        );
+        assert!(class[..w as usize * 80].iter().all(|&c| c == Class::Wall));
+    }
 }

@@ -180,6 +180,8 @@ pub enum Command {
     MaskClear,
     /// Make the whole photo wall.
     MaskFill,
+    /// Fill the region with the wall the scene analysis finds (one undo step).
+    AutoRegion,
     /// Replace the source lines; with `before`, as one undo step from
     /// `before` (the end of a drag), without, live while dragging.
     SetLines {
@@ -188,7 +190,8 @@ pub enum Command {
         /// The lines before the gesture, to record an undo step.
         before: Option<Vec<SourceLine>>,
     },
-    /// Propose source lines from the image's ledges (adds to the lines).
+    /// Propose source lines from the ledges the scene analysis finds inside
+    /// the region (adds to the lines).
     DetectLedges,
     /// Replace the quad; `before` as for [`Command::SetLines`].
     SetQuad {

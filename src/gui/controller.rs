@@ -9,9 +9,11 @@ use std::sync::Arc;
 
 use image::{GrayImage, RgbImage};
 
+use crate::analysis::Analysis;
 use crate::photo::Photo;
 use crate::preset::{self, Preset};
 
+use super::analyser::{self, Analyser, Finished, Want};
 use super::command::{Command, MaskShape, PromptKind};
 use super::exporter::Exporter;
 use super::files::{FileDone, FileJob, Files};
@@ -39,6 +41,9 @@ pub struct Loaded {
     pub rev: u64,
     /// The mask when the current brush stroke began.
     stroke_before: Option<GrayImage>,
+    /// The scene analysis of the photo, once "Auto region" or "Detect
+    /// ledges" asked for it.
+    analysis: Option<Arc<Analysis>>,
 }
 
 impl Loaded {
@@ -94,6 +99,7 @@ pub struct Controller {
     preview: Scheduler,
     export: Exporter,
     files: Files,
+    analyser: Analyser,
     message: Option<Message>,
     requests: ViewRequests,
     proxy_pixels: u64,
@@ -114,7 +120,8 @@ impl Controller {
             },
             preview: Scheduler::new(Arc::clone(&repaint)),
             export: Exporter::new(Arc::clone(&repaint)),
-            files: Files::spawn(repaint),
+            files: Files::spawn(Arc::clone(&repaint)),
+            analyser: Analyser::new(repaint),
             message: None,
             requests: ViewRequests::default(),
             proxy_pixels: proxy_pixels.max(1024),
@@ -167,14 +174,18 @@ impl Controller {
         self.export.last()
     }
 
-    /// True while a preview, export or file operation is running or pending.
+    /// True while a preview, export, file operation or analysis is running
+    /// or pending.
     pub fn is_busy(&self) -> bool {
-        self.preview.is_busy() || self.export.running().is_some() || self.files.is_busy()
+        self.is_working() || self.preview.is_busy()
     }
 
     /// True while a worker runs (the view keeps its spinner turning).
     pub fn is_working(&self) -> bool {
-        self.preview.is_running() || self.export.running().is_some() || self.files.is_busy()
+        self.preview.is_running()
+            || self.export.running().is_some()
+            || self.files.is_busy()
+            || self.analyser.is_busy()
     }
 
     /// What the view must do; taking it clears it.
@@ -235,6 +246,9 @@ impl Controller {
                 Err(e) => self.error(e),
             }
         }
+        if let Some(done) = self.analyser.poll() {
+            self.analysed(done);
+        }
     }
 
     /// Starts a simulation, re-composites, or waits, as the last changes need.
@@ -263,7 +277,9 @@ impl Controller {
             rgb: None,
             rev,
             stroke_before: None,
+            analysis: None,
         });
+        self.analyser.reset();
         self.history.clear();
         self.requests.opened = true;
         self.requests.mask_rects.clear();
@@ -422,7 +438,8 @@ impl Controller {
                 l.doc.lines = lines;
                 self.bump();
             }
-            Command::DetectLedges => self.detect_ledges(),
+            Command::AutoRegion => self.with_analysis(Want::Region),
+            Command::DetectLedges => self.with_analysis(Want::Ledges),
             Command::SetQuad { quad, before } => {
                 if let Some(q) = &quad
                     && let Err(e) = crate::perspective::validate(q)
@@ -519,15 +536,62 @@ impl Controller {
         }
     }
 
-    /// Adds source lines along the ledges [`crate::ledges::detect`] finds
-    /// on the proxy, skipping those that repeat a line already there.
-    fn detect_ledges(&mut self) {
+    /// Does `want` with the photo's analysis, starting it (off the UI
+    /// thread) when there is none yet.
+    fn with_analysis(&mut self, want: Want) {
         let Some(l) = &self.loaded else { return };
-        let (sx, sy) = (l.proxy.sx, l.proxy.sy);
-        let found = crate::ledges::detect(&l.proxy.photo, Some(&*l.proxy.mask))
-            .into_iter()
-            .map(|line| line.iter().map(|p| [p[0] / sx, p[1] / sy]).collect());
-        let new = crate::ledges::not_in(&l.doc.lines, found, 6.0 / sy);
+        if let Some(a) = l.analysis.clone() {
+            return self.use_analysis(want, &a);
+        }
+        let name = l.doc.source.display_name();
+        self.analyser.start(&l.photo, &name, want);
+        self.info("Analysing the photo…");
+    }
+
+    /// An analysis finished: keep it with its photo and do what it was for.
+    fn analysed(&mut self, done: Finished) {
+        let Some(l) = &mut self.loaded else { return };
+        if !Arc::ptr_eq(&l.photo, &done.photo) {
+            return;
+        }
+        match done.result {
+            Ok(a) => {
+                l.analysis = Some(Arc::clone(&a));
+                for want in done.wants {
+                    self.use_analysis(want, &a);
+                }
+            }
+            Err(e) => self.error(e),
+        }
+    }
+
+    fn use_analysis(&mut self, want: Want, a: &Analysis) {
+        match want {
+            Want::Region => self.auto_region(a),
+            Want::Ledges => self.detect_ledges(a),
+        }
+    }
+
+    /// Replaces the region with the analysis's wall matte, one undo step.
+    fn auto_region(&mut self, a: &Analysis) {
+        self.mask_op(|mask, _| {
+            if mask.dimensions() != a.matte.dimensions() {
+                return None;
+            }
+            mask.copy_from_slice(&a.matte);
+            Some(PixelRect::full(mask.width(), mask.height()))
+        });
+        self.info(format!(
+            "Auto region: {:.0}% of the photo is wall",
+            a.wall_fraction * 100.0
+        ));
+    }
+
+    /// Adds source lines along the analysis's ledges inside the region,
+    /// skipping those that repeat a line already there.
+    fn detect_ledges(&mut self, a: &Analysis) {
+        let Some(l) = &self.loaded else { return };
+        let new = analyser::new_ledges(a, &l.doc.mask, &l.doc.lines, 6.0 / l.proxy.sy);
         let added = new.len();
         if added > 0 {
             let before = l.doc.lines.clone();

@@ -175,6 +175,7 @@ pub fn bar(ui: &mut Ui, ctl: &Controller, out: &mut Vec<Command>) {
                 ("Invert region", Command::MaskInvert),
                 ("Clear region", Command::MaskClear),
                 ("Whole image is wall", Command::MaskFill),
+                ("Auto region", Command::AutoRegion),
                 ("Detect ledges", Command::DetectLedges),
                 ("Remove all source lines", remove_lines),
                 ("Remove quad", remove_quad),

@@ -20,6 +20,7 @@
 //! - [`automation`]: scripted runs (`--screenshot`, `--quit-after-frames`).
 
 pub mod ages;
+pub mod analyser;
 pub mod app;
 pub mod automation;
 pub mod canvas;

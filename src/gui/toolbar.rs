@@ -32,7 +32,7 @@ pub fn show(ui: &mut Ui, ctl: &Controller, selected_line: Option<usize>, out: &m
         let detect = ui
             .add_enabled(has_doc, egui::Button::new("Detect ledges"))
             .on_hover_text(
-                "Propose source lines along strong horizontal edges (sills, cornices) inside the region",
+                "Propose source lines along the ledges grime sees (sills, cornices, roof line) inside the region",
             );
         if detect.clicked() {
             out.push(Command::DetectLedges);
@@ -141,6 +141,11 @@ fn options(ui: &mut Ui, ctl: &Controller, selected_line: Option<usize>, out: &mu
                 "Empty the region (paint it back with Brush, Rectangle, Lasso or Wand)",
             ),
             ("Invert", Command::MaskInvert, "Swap wall and not-wall"),
+            (
+                "Auto region",
+                Command::AutoRegion,
+                "The wall grime sees in the photo (not sky, vegetation, glass, ground); edit it with Brush and Eraser",
+            ),
         ] {
             if ui
                 .add_enabled(has, egui::Button::new(label))
