@@ -60,18 +60,26 @@ pub fn splash(ctx: &Context, height_m: f32) -> RowMajor<f32> {
     })
 }
 
-/// Ledge tops: a band `depth_m` deep above each ledge's drip line.
+/// Ledge tops: a band `depth_m` deep above each ledge's drip line, as
+/// strong as the ledge's confidence.
 pub fn ledge_tops(ctx: &Context, depth_m: f32) -> RowMajor<f32> {
     let depth = ctx.photo_px(depth_m).max(1.0);
-    let lines: Vec<&Vec<[f32; 2]>> = ctx.site.ledges.iter().map(|l| &l.polyline).collect();
+    // A ledge counts as much as the analysis is sure of it (1 for the
+    // demo's own): a shutter's edge taken for a sill grows little.
+    let lines: Vec<(&Vec<[f32; 2]>, f32)> = ctx
+        .site
+        .ledges
+        .iter()
+        .map(|l| (&l.polyline, l.confidence.clamp(0.0, 1.0)))
+        .collect();
     on_grid(ctx, |x, y| {
         lines
             .iter()
-            .filter_map(|line| row_at(line, x))
-            .map(|row| {
+            .filter_map(|(line, sure)| row_at(line, x).map(|row| (row, *sure)))
+            .map(|(row, sure)| {
                 let above = row - y;
                 if (0.0..=depth).contains(&above) {
-                    1.0
+                    sure
                 } else {
                     0.0
                 }

@@ -522,9 +522,9 @@ fn colony_dots(c: &Colony, index: usize, p: &MossParams, baseline: f32, seed: u6
 /// share of colonies each takes besides `moss.color` when `mixed_species`
 /// is on (`how-facades-age.md`, "Living growth").
 const SPECIES: [([f32; 3], f32); 3] = [
-    ([146.0, 154.0, 124.0], 0.35),
-    ([66.0, 84.0, 40.0], 0.2),
-    ([184.0, 132.0, 64.0], 0.06),
+    ([138.0, 146.0, 122.0], 0.5),
+    ([66.0, 84.0, 40.0], 0.3),
+    ([170.0, 128.0, 70.0], 0.04),
 ];
 
 /// A colony's base colour: its species', a little lighter or darker.

@@ -244,7 +244,9 @@ pub(super) fn dust(ctx: &Context, preset: &Preset, progress: &Progress) -> Resul
         let mut settle = habitat::ledge_tops(ctx, p.ledge_top_m);
         let shelter = habitat::shelter(ctx);
         for (v, s) in settle.data_mut().iter_mut().zip(shelter.data()) {
-            *v = p.open_wall + (1.0 - p.open_wall) * v.max(*s);
+            // [choice] Shelter half as much as a ledge top: the analysis's
+            // shelter is a coarse band, and soot there is a tone, not a coat.
+            *v = p.open_wall + (1.0 - p.open_wall) * v.max(0.5 * s);
         }
         let (w, h) = ctx.size();
         let settle = ctx.grid.upsample(&settle, ctx.mask, w, h);

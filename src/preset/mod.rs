@@ -362,7 +362,7 @@ impl Default for MossParams {
             colony_m: 0.05,
             splash_m: 0.4,
             ledge_top_m: 0.15,
-            open_wall: 0.05,
+            open_wall: 0.0,
             mixed_species: true,
             iterations: 3,
             peak: 0.45,
