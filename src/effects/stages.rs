@@ -94,14 +94,19 @@ pub(super) fn rain(
     for (i, rl) in out.layers.iter().enumerate() {
         progress.check()?;
         progress.update("stain", 0.87 + 0.13 * i as f32 / out.layers.len() as f32);
-        let wide = widened.of(
-            &rl.deposit,
-            d_max,
-            &preset.stain,
-            blur + 2.0 * release.width,
-        );
         let cover = coverage.of(&rl.deposit, d_max, &preset.stain, blur);
-        rain::fall::widen(cover, wide, &fade);
+        if r.fall_m > 0.0 {
+            let wider = blur + 2.0 * release.width;
+            let wide = widened.of(&rl.deposit, d_max, &preset.stain, wider);
+            rain::fall::widen(cover, wide, &fade);
+        } else {
+            // No fall: the stain as it is, below the sources.
+            cover
+                .data_mut()
+                .iter_mut()
+                .zip(fade.data())
+                .for_each(|(c, f)| *c *= f);
+        }
         let alpha = grid.upsample(cover, ctx.mask, w, h);
         let pixels = LayerPixels::Tint {
             color: preset.stain.color,

@@ -872,6 +872,8 @@ pub fn builtin(name: &str) -> Result<Preset> {
             p.rain.drip_spacing_m = 0.0;
             p.rain.end_share = 0.0;
             p.rain.fall_m = 0.0;
+            p.stain.blur_m = 0.0;
+            p.stain.softness = 0.8;
             p.moss.baseline = 1.0 / 40.0;
             p.moss.mixed_species = false;
             p.moss.open_wall = 1.0;
