@@ -129,14 +129,8 @@ pub fn facade(w: u32, h: u32) -> Demo {
         let shade =
             |base: [f32; 3], k: f32| Rgb(base.map(|c| (c * (1.0 + k)).clamp(0.0, 255.0) as u8));
         if y >= l.ground {
-            // Paving slabs with dark joints.
-            let joint = x % (w / 12).max(4) < 2 || (y - l.ground).is_multiple_of((h / 12).max(4));
-            let k = if joint {
-                -0.35
-            } else {
-                0.25 * grain + 0.1 * mottle
-            };
-            return shade([128.0, 124.0, 116.0], k);
+            // Asphalt.
+            return shade([96.0, 96.0, 100.0], 0.25 * grain + 0.1 * mottle);
         }
         if y >= l.cornice.0 && y < l.cornice.1 {
             let ridge = if (y - l.cornice.0) % 6 < 2 {
