@@ -3,6 +3,7 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
 use serde::Serialize;
 
 use super::moss::{self, MossInput, Wet};
@@ -103,7 +104,7 @@ pub(super) fn rain(
             // No fall: the stain as it is, below the sources.
             cover
                 .data_mut()
-                .iter_mut()
+                .par_iter_mut()
                 .zip(fade.data())
                 .for_each(|(c, f)| *c *= f);
         }
@@ -291,7 +292,6 @@ pub(super) fn dust(ctx: &Context, preset: &Preset, progress: &Progress) -> Resul
 /// Scales the alpha (the last of `channels` per pixel) of `pixels` by
 /// `settle` (0..255 per pixel).
 fn settle_alpha(pixels: &mut [u8], channels: usize, settle: &image::GrayImage) {
-    use rayon::prelude::*;
     pixels
         .par_chunks_exact_mut(channels)
         .zip(settle.as_raw().par_iter())
