@@ -7,15 +7,19 @@
 //! its slider ranges and tooltips, so the three cannot drift apart.
 
 mod age;
+mod builtin;
 mod diff;
 mod gammaton;
 mod imperfections;
 mod params;
+mod params_dust;
 mod sections;
 mod table;
+mod toml_text;
 mod weathering;
 
 pub use age::AgeParams;
+pub use builtin::{BUILTIN, builtin};
 pub use diff::diff_paths;
 pub use gammaton::{
     GammaSource, GammatonParams, MAX_SUBSTANCES, Rule, RuleKind, SourceKind, Stop, Substance,
@@ -30,6 +34,10 @@ pub use weathering::{ClimateParams, GeneratorParams};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+use toml_text::{
+    insert_missing, is_integer_text, leaves, lookup_mut, one_line, push_field, push_unset,
+    toml_literal,
+};
 
 /// A complete, serialisable set of parameters.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -731,170 +739,6 @@ impl Preset {
         }
         out
     }
-}
-
-/// True for `123`, `-4`, `+5_000`: digits with an optional sign.
-fn is_integer_text(raw: &str) -> bool {
-    let digits = raw.strip_prefix(['-', '+']).unwrap_or(raw);
-    !digits.is_empty() && digits.chars().all(|c| c.is_ascii_digit() || c == '_')
-}
-
-fn push_field(out: &mut String, path: &str, key: &str, v: &toml::Value) {
-    if let Some(spec) = param(path) {
-        let sym = if spec.symbol.is_empty() {
-            String::new()
-        } else {
-            format!(" [{}]", spec.symbol)
-        };
-        let range = if spec.min.is_finite() && spec.max.is_finite() && spec.max > spec.min {
-            format!(" Range {} ..= {}.", spec.min, spec.max)
-        } else {
-            String::new()
-        };
-        out.push_str(&format!("# {}{sym}.{range}\n", spec.doc));
-    }
-    out.push_str(&format!("{key} = {}\n", toml_literal(v)));
-}
-
-/// Documents the fields of `section` that are unset (optional fields, such
-/// as `age.years`), as commented-out lines.
-fn push_unset(out: &mut String, section: &str, table: &toml::Table) {
-    let prefix = format!("{section}.");
-    for spec in PARAMS {
-        let Some(key) = spec.path.strip_prefix(&prefix) else {
-            continue;
-        };
-        if !key.contains('.') && !table.contains_key(key) {
-            let range = format!(" Range {} ..= {}.", spec.min, spec.max);
-            out.push_str(&format!(
-                "# {}.{range} Unset by default.\n# {key} = (a number)\n",
-                spec.doc
-            ));
-        }
-    }
-}
-
-/// Every value at `keys` below `v`; arrays fan out (each element is looked
-/// up with the same remaining keys), so `stain.color` yields three numbers
-/// and `dust.film_segments.alpha` one per segment.
-fn leaves<'a>(v: &'a toml::Value, keys: &[&str], out: &mut Vec<&'a toml::Value>) {
-    match (v, keys.split_first()) {
-        (toml::Value::Array(items), _) => items.iter().for_each(|item| leaves(item, keys, out)),
-        (_, None) => out.push(v),
-        (_, Some((k, rest))) => {
-            if let Some(child) = v.get(*k) {
-                leaves(child, rest, out);
-            }
-        }
-    }
-}
-
-/// A TOML literal with floats printed at f32 precision (`0.025`, not
-/// `0.02500000037252903`), as the preset stores them.
-fn toml_literal(v: &toml::Value) -> String {
-    match v {
-        toml::Value::Float(f) => {
-            let s = (*f as f32).to_string();
-            if s.contains(['.', 'e', 'i', 'N']) {
-                s
-            } else {
-                format!("{s}.0")
-            }
-        }
-        toml::Value::Array(items) => {
-            let items: Vec<String> = items.iter().map(toml_literal).collect();
-            format!("[{}]", items.join(", "))
-        }
-        other => other.to_string(),
-    }
-}
-
-/// Makes room for an optional field that is unset (so absent from the
-/// serialised preset), e.g. `age.years`, so `--set` can give it a value.
-fn insert_missing(v: &mut toml::Value, path: &str) {
-    let Some((parent, key)) = path.rsplit_once('.') else {
-        return;
-    };
-    if let Some(toml::Value::Table(t)) = lookup_mut(v, parent) {
-        t.entry(key)
-            .or_insert_with(|| toml::Value::String(String::new()));
-    }
-}
-
-fn lookup_mut<'a>(v: &'a mut toml::Value, path: &str) -> Option<&'a mut toml::Value> {
-    path.split('.').try_fold(v, |v, k| v.get_mut(k))
-}
-
-fn one_line(e: &impl std::fmt::Display) -> String {
-    e.to_string()
-        .split_whitespace()
-        .collect::<Vec<_>>()
-        .join(" ")
-}
-
-/// Built-in presets, by name: what `grime preset NAME` prints and
-/// `--preset NAME` loads.
-pub const BUILTIN: &[(&str, &str)] = &[
-    ("default", "the defaults: 12 rainfalls"),
-    (
-        "chang-table1",
-        "the paper's Table 1 values (k_S 0.7, k_a 0.5, 600 droplets, r 100)",
-    ),
-    ("light-rain", "4 rainfalls, a recently weathered wall"),
-    ("heavy-rain", "20 rainfalls, wetter and dirtier"),
-    (
-        "rust-runs",
-        "gamma-tons: orange-brown rust runs below the ledges and fixings",
-    ),
-    (
-        "salt-bloom",
-        "gamma-tons: white efflorescence where water evaporates near the ground",
-    ),
-    ("splash", "gamma-tons: dirt thrown up the foot of the wall"),
-];
-
-/// Returns a built-in preset by name.
-///
-/// # Errors
-/// [`Error::Preset`] listing the known names.
-pub fn builtin(name: &str) -> Result<Preset> {
-    let mut p = Preset::default();
-    match name {
-        "default" => {}
-        "chang-table1" => {
-            p.rain.reference_width = 0;
-            p.rain.droplets = 600;
-            p.rain.k_s = 0.7;
-            p.rain.k_a = 0.5;
-            p.rain.r = 100.0;
-            p.rain.initial_dirt = 5.0;
-            // The paper's uniform release and unfaded stains.
-            p.rain.drip_spacing_m = 0.0;
-            p.rain.end_share = 0.0;
-            p.rain.fall_m = 0.0;
-            p.stain.blur_m = 0.0;
-            p.stain.softness = 0.8;
-            p.moss.baseline = 1.0 / 40.0;
-            p.moss.mixed_species = false;
-            p.moss.open_wall = 1.0;
-        }
-        "light-rain" => p.rain.layers = 4,
-        "heavy-rain" => {
-            p.rain.layers = 20;
-            p.rain.droplets = 900;
-            p.rain.ledge_dirt = 4.0;
-            p.rain.mass_max = 160.0;
-        }
-        "rust-runs" | "salt-bloom" | "splash" => p.gammaton = gammaton::builtin(name),
-        _ => {
-            let names: Vec<_> = BUILTIN.iter().map(|(n, _)| *n).collect();
-            return Err(Error::Preset(format!(
-                "unknown preset {name:?}; built-in presets: {}; or pass a .toml file",
-                names.join(", ")
-            )));
-        }
-    }
-    Ok(p)
 }
 
 #[cfg(test)]

@@ -47,7 +47,7 @@ pub(super) fn with_say(table: toml::Table) -> crate::Result<super::Preset> {
     merge(&mut value, toml::Value::Table(table));
     value
         .try_into()
-        .map_err(|e: toml::de::Error| Error::Preset(super::one_line(&e)))
+        .map_err(|e: toml::de::Error| Error::Preset(super::toml_text::one_line(&e)))
 }
 
 /// `over` into `base`: tables field by field, anything else replaced.

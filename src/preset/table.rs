@@ -11,6 +11,7 @@ pub const PARAMS: &[ParamSpec] = &ALL;
 /// The tables of the preset's modules, in section order.
 const PARTS: &[&[ParamSpec]] = &[
     super::params::CORE,
+    super::params_dust::DUST_AND_GAMMATON,
     super::imperfections::ROWS[0],
     super::imperfections::ROWS[1],
     super::imperfections::ROWS[2],
