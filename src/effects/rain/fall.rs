@@ -31,12 +31,14 @@ pub fn fade(
     // Per column, the rows of the sources crossing it.
     let mut rows: Vec<Vec<f32>> = vec![Vec::new(); width];
     for line in lines.iter().filter(|l| !l.is_empty()) {
+        let mut line = line.clone();
+        line.sort_by(|a, b| a.0.total_cmp(&b.0));
         let x_lo = line.iter().map(|p| p.0).fold(f32::MAX, f32::min) - reach;
         let x_hi = line.iter().map(|p| p.0).fold(f32::MIN, f32::max) + reach;
         let first = x_lo.floor().max(0.0) as usize;
         let last = (x_hi.ceil().max(0.0) as usize).min(width.saturating_sub(1));
         for (x, column) in rows.iter_mut().enumerate().take(last + 1).skip(first) {
-            column.push(row_at(line, x as f32 + 0.5));
+            column.push(row_at(&line, x as f32 + 0.5));
         }
     }
     if let Some(edge) = top_edge {
@@ -90,10 +92,8 @@ pub fn widen(narrow: &mut RowMajor<f32>, wide: &RowMajor<f32>, fade: &RowMajor<f
         });
 }
 
-/// The polyline's row at column `x` (clamped to its ends).
-fn row_at(line: &[(f32, f32)], x: f32) -> f32 {
-    let mut pts: Vec<(f32, f32)> = line.to_vec();
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+/// The row at column `x` of a polyline sorted by x (clamped to its ends).
+fn row_at(pts: &[(f32, f32)], x: f32) -> f32 {
     let (first, last) = (pts[0], pts[pts.len() - 1]);
     if x <= first.0 {
         return first.1;
