@@ -13,8 +13,9 @@
 //! let mut preset = Preset::default();
 //! preset.rain.layers = 2;
 //! let out = pipeline::run(&scene, &preset, &Progress::none()).unwrap();
-//! // 2 rainfalls, then moss, dust film and dust granules.
-//! assert_eq!(out.stack.layers.len(), 5);
+//! // 2 rainfalls and the runs they washed, then moss, dust film and
+//! // dust granules.
+//! assert_eq!(out.stack.layers.len(), 6);
 //! ```
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]

@@ -27,6 +27,8 @@ pub enum BlendMode {
     Normal,
     /// Darken: base times layer colour.
     Multiply,
+    /// Lighten: one minus the product of the inverses (the W3C `screen`).
+    Screen,
 }
 
 impl BlendMode {
@@ -36,6 +38,7 @@ impl BlendMode {
         match self {
             BlendMode::Normal => src,
             BlendMode::Multiply => base * src,
+            BlendMode::Screen => base + src - base * src,
         }
     }
 }
@@ -315,6 +318,7 @@ mod tests {
             let blended = match l.blend {
                 BlendMode::Normal => src,
                 BlendMode::Multiply => b * src,
+                BlendMode::Screen => 1.0 - (1.0 - b) * (1.0 - src),
             };
             out[c] = ((b * (1.0 - a) + blended * a) * 255.0).round() as u8;
         }
@@ -333,8 +337,9 @@ mod tests {
     #[test]
     fn blends_match_reference_formula() {
         use proptest::prelude::*;
-        proptest!(|(b in any::<[u8; 3]>(), c in any::<[u8; 3]>(), a in any::<u8>(), o in 0.0f32..=1.0, m in any::<bool>())| {
-            let blend = if m { BlendMode::Multiply } else { BlendMode::Normal };
+        let modes = [BlendMode::Normal, BlendMode::Multiply, BlendMode::Screen];
+        proptest!(|(b in any::<[u8; 3]>(), c in any::<[u8; 3]>(), a in any::<u8>(), o in 0.0f32..=1.0, m in 0usize..3)| {
+            let blend = modes[m];
             let l = tint(a, blend, c, o);
             let want = reference(b, &l);
             let got = one(b, vec![l]);

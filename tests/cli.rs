@@ -280,15 +280,17 @@ fn layers_dir_has_a_png_per_layer_and_a_manifest() {
     assert_eq!(entries[0]["name"], "photo");
     let rain: Vec<_> = entries
         .iter()
-        .filter(|e| e["name"].as_str().unwrap().starts_with("rain "))
+        .filter(|e| e["name"].as_str().unwrap().starts_with("rain 0"))
         .collect();
     assert_eq!(rain.len(), 4);
     assert_eq!(rain[0]["name"], "rain 01");
+    let washed = entries.iter().find(|e| e["name"] == "rain washed").unwrap();
+    assert_eq!(washed["blend"], "screen");
     for e in entries {
         let img = image::open(layers.join(e["file"].as_str().unwrap())).unwrap();
         assert_eq!((img.width(), img.height()), (960, 720));
         assert!(e["opacity"].as_f64().unwrap() > 0.0);
-        assert!(["normal", "multiply"].contains(&e["blend"].as_str().unwrap()));
+        assert!(["normal", "multiply", "screen"].contains(&e["blend"].as_str().unwrap()));
     }
     for e in rain {
         assert_eq!(e["blend"], "multiply");

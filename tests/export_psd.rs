@@ -55,6 +55,17 @@ fn layers() -> Vec<Layer> {
                 alpha: GrayImage::from_pixel(W, H, Luma([100])),
             },
         },
+        Layer {
+            name: "rain washed".into(),
+            kind: None,
+            blend: BlendMode::Screen,
+            opacity: 0.35,
+            visible: true,
+            pixels: LayerPixels::Tint {
+                color: [200, 196, 186],
+                alpha: GrayImage::from_fn(W, H, |x, _| Luma([(x * 7) as u8])),
+            },
+        },
     ]
 }
 
@@ -91,7 +102,17 @@ fn round_trip_through_the_psd_crate() {
     assert!(matches!(psd.color_mode(), psd::ColorMode::Rgb));
     let names: Vec<&str> = psd.layers().iter().map(|l| l.name()).collect();
     // The psd crate lists layers top first.
-    assert_eq!(names, ["region", "dust film é", "moss", "rain 01", "photo"]);
+    assert_eq!(
+        names,
+        [
+            "region",
+            "rain washed",
+            "dust film é",
+            "moss",
+            "rain 01",
+            "photo"
+        ]
+    );
 
     // Photo: the bottom layer, opaque.
     let photo = psd.layer_by_name("photo").unwrap();
@@ -125,6 +146,7 @@ fn round_trip_through_the_psd_crate() {
         let blend = match l.blend {
             BlendMode::Normal => "Normal",
             BlendMode::Multiply => "Multiply",
+            BlendMode::Screen => "Screen",
         };
         assert_eq!(format!("{:?}", got.blend_mode()), blend, "{}", l.name);
     }
@@ -185,7 +207,17 @@ fn sixteen_bit_in_gives_sixteen_bit_out() {
         psd.depth()
     );
     let names: Vec<&str> = psd.layers().iter().map(|l| l.name()).collect();
-    assert_eq!(names, ["region", "dust film é", "moss", "rain 01", "photo"]);
+    assert_eq!(
+        names,
+        [
+            "region",
+            "rain washed",
+            "dust film é",
+            "moss",
+            "rain 01",
+            "photo"
+        ]
+    );
 
     // The psd crate does not decode 16-bit channels, so decode the merged
     // image ourselves and compare it with the 16-bit composite exactly.

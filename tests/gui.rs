@@ -288,6 +288,8 @@ fn unreadable_images_and_failed_writes_show_messages() {
 fn time_slider_and_layers_recomposite_without_simulating() {
     let mut p = quick_preset();
     p.rain.layers = 4;
+    // Without the washed runs, which sum every rainfall (fewer need a run).
+    p.stain.washed_opacity = 0.0;
     rain_only(&mut p);
     let mut h = facade_with(p);
     let simulations = h.state().controller().preview().simulations();
@@ -431,9 +433,10 @@ fn the_stain_opacity_slider_restyles_without_the_simulation_worker() {
     let mut h = facade_with(p);
     let before = h.state().preview_image().unwrap().clone();
     let simulations = h.state().controller().preview().simulations();
-    // The layer panel's rows come first, then the Stain section's slider
-    // (the Moss section's "opacity" is last).
-    let layers = h.state().document().unwrap().preset.rain.layers as usize;
+    // The layer panel's rows come first (the rainfalls and the washed
+    // runs), then the Stain section's slider (the Moss section's "opacity"
+    // is last).
+    let layers = h.state().document().unwrap().preset.rain.layers as usize + 1;
     let sliders: Vec<_> = h
         .get_all_by_role_and_label(Role::Slider, "opacity")
         .collect();

@@ -8,7 +8,7 @@ use grime::photo::Photo;
 use grime::pipeline::{self, Outcome, Scene, Site};
 use grime::preset::Preset;
 use grime::progress::Progress;
-use grime::stack::Layer;
+use grime::stack::{BlendMode, Layer};
 use image::{DynamicImage, Rgb, RgbImage};
 
 /// The demo facade with its own region, ledges and site, aged by `preset`.
@@ -156,6 +156,51 @@ fn streaks_fall_below_their_ledges() {
 }
 
 #[test]
+fn streaks_come_dark_where_dirt_settles_and_light_where_water_washed_it() {
+    let (scene, out, _) = facade(&Preset::default());
+    let washed = layers_named(&out, "rain washed")
+        .next()
+        .expect("a washed layer");
+    assert_eq!(washed.blend, BlendMode::Screen);
+    let (w, h) = scene.size();
+    let photo = scene.photo.image().to_rgb8();
+    let aged = out.stack.composite().to_rgb8();
+    let luma = |p: &Rgb<u8>| p.0.iter().map(|&c| c as u32).sum::<u32>();
+    let only = |x: u32, y: u32, name: &str| {
+        out.stack
+            .layers
+            .iter()
+            .all(|l| (l.name == name) == (l.rgba(x, y)[3] > 0))
+    };
+    let (mut lighter, mut darker, mut wrong) = (0, 0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let (a, b) = (luma(aged.get_pixel(x, y)), luma(photo.get_pixel(x, y)));
+            if only(x, y, "rain washed") {
+                lighter += usize::from(a > b);
+                wrong += usize::from(a < b);
+            } else if only(x, y, "rain 01") {
+                darker += usize::from(a < b);
+                wrong += usize::from(a > b);
+            }
+        }
+    }
+    assert!(
+        lighter > 50 && darker > 50,
+        "lighter {lighter}, darker {darker}"
+    );
+    assert_eq!(
+        wrong, 0,
+        "a washed pixel got darker or a stained one lighter"
+    );
+    // The papers' own preset keeps only the dark deposits.
+    let mut chang = Preset::default();
+    chang.stain.washed_opacity = 0.0;
+    let (_, plain, _) = facade(&chang);
+    assert!(layers_named(&plain, "rain washed").next().is_none());
+}
+
+#[test]
 fn moss_keeps_to_the_foot_of_the_wall_and_the_ledge_tops() {
     let (scene, out, d) = facade(&Preset::default());
     let moss = layers_named(&out, "moss").next().unwrap();
@@ -207,7 +252,8 @@ fn plain(metres_per_pixel: f32) -> Scene {
         .unwrap()
 }
 
-/// Mean over the rows of a streak's equivalent width (ink / peak ink).
+/// Mean over the rows of a streak's equivalent width (ink / peak ink) in
+/// the rainfalls' layers.
 fn streak_width(metres_per_pixel: f32) -> f32 {
     let mut p = Preset::default();
     p.moss.enabled = false;
@@ -223,7 +269,7 @@ fn streak_width(metres_per_pixel: f32) -> f32 {
     let mut widths = Vec::new();
     for y in 60..120 {
         let row: Vec<f32> = (100..300)
-            .map(|x| layers_named(&out, "rain").map(|l| cover(l, x, y)).sum())
+            .map(|x| layers_named(&out, "rain 0").map(|l| cover(l, x, y)).sum())
             .collect();
         let peak = row.iter().copied().fold(0.0, f32::max);
         if peak > 0.01 {
@@ -236,6 +282,7 @@ fn streak_width(metres_per_pixel: f32) -> f32 {
 
 #[test]
 fn halving_metres_per_pixel_doubles_streak_widths() {
+    // The dark deposits (the washed runs go through the same blur).
     let (coarse, fine) = (streak_width(0.01), streak_width(0.005));
     let ratio = fine / coarse;
     assert!((1.6..=2.4).contains(&ratio), "{fine} / {coarse} = {ratio}");

@@ -67,17 +67,18 @@ fn layers_stack_as_rain_moss_film_granules() {
             "rain 01",
             "rain 02",
             "rain 03",
+            "rain washed",
             "moss",
             "dust film",
             "dust granules"
         ]
     );
-    assert_eq!(out.report.layers.len(), 6);
+    assert_eq!(out.report.layers.len(), 7);
     let mut q = p.clone();
     q.moss.enabled = false;
     q.dust.enabled = false;
     let out = run(&scene, &q);
-    assert_eq!(out.stack.layers.len(), 3);
+    assert_eq!(out.stack.layers.len(), 4);
     assert!(out.report.moss().is_none() && out.report.dust().is_none());
 }
 

@@ -30,7 +30,7 @@ from psd_tools.constants import BlendMode, Resource
 
 TOLERANCE = 2  # per channel, in 1/255
 
-BLEND = {"normal": BlendMode.NORMAL, "multiply": BlendMode.MULTIPLY}
+BLEND = {"normal": BlendMode.NORMAL, "multiply": BlendMode.MULTIPLY, "screen": BlendMode.SCREEN}
 
 failures = []
 

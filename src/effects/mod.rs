@@ -35,6 +35,7 @@ pub mod rain;
 pub mod region;
 pub mod roughness;
 mod stages;
+pub use stages::WASHED;
 pub mod surface;
 #[cfg(test)]
 pub(crate) mod testing;
@@ -180,8 +181,17 @@ impl Effect {
         };
         match self {
             Effect::Rain => match path {
-                "stain.color" | "stain.opacity" => true,
-                "rain.layers" => new.rain.layers <= old.rain.layers && !read_by_enabled(self),
+                "stain.color" | "stain.opacity" | "stain.washed_color" => true,
+                // The washed layer exists on both sides.
+                "stain.washed_opacity" => {
+                    old.stain.washed_opacity > 0.0 && new.stain.washed_opacity > 0.0
+                }
+                // The washed runs sum every rainfall: fewer need a new run.
+                "rain.layers" => {
+                    new.rain.layers <= old.rain.layers
+                        && !read_by_enabled(self)
+                        && new.stain.washed_opacity == 0.0
+                }
                 _ => false,
             },
             Effect::Moss
@@ -277,6 +287,10 @@ pub struct Products {
     pub keep_rain_at: Vec<u32>,
     /// The walls it kept, in rainfall order.
     pub rain_kept: Vec<Arc<rain::Kept>>,
+    /// The washed-runs layer after each kept rainfall count (when the
+    /// preset has one): a time-lapse frame's, which its first rainfalls'
+    /// layers do not give.
+    pub rain_washed: Vec<(u32, Layer)>,
 }
 
 /// What one effect made.
@@ -372,6 +386,10 @@ mod tests {
         old.moss.enabled = false;
         let mut new = old.clone();
         new.rain.layers -= 1;
+        // The washed runs sum every rainfall: they need the new count.
+        assert!(stale(&old, &new).contains(&Effect::Rain));
+        old.stain.washed_opacity = 0.0;
+        new.stain.washed_opacity = 0.0;
         assert!(stale(&old, &new).is_empty());
         new.rain.layers += 2;
         assert_eq!(

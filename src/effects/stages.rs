@@ -3,14 +3,16 @@
 
 use std::sync::Arc;
 
+use image::GrayImage;
 use rayon::prelude::*;
 use serde::Serialize;
 
 use super::moss::{self, MossInput, Wet};
 use super::rain::{self, RainInput, sources::Release};
 use super::{Context, Effect, Produced, Products, Stats, dust, habitat, surface};
+use crate::effects::percentile::{Rank, percentile};
 use crate::error::Result;
-use crate::field::RowMajor;
+use crate::field::{ColumnMajor, RowMajor};
 use crate::preset::Preset;
 use crate::progress::Progress;
 use crate::stack::{BlendMode, Layer, LayerPixels};
@@ -50,7 +52,6 @@ pub(super) fn rain(
     progress: &Progress,
 ) -> Result<Produced> {
     let grid = ctx.grid;
-    let (w, h) = ctx.size();
     let r = &preset.rain;
     let source_lines: Vec<Vec<(f32, f32)>> = r
         .source_lines
@@ -62,11 +63,14 @@ pub(super) fn rain(
         width: ctx.grid_px(r.release_width_m),
         end_share: r.end_share,
     };
+    let catch = r.source_lines.iter().map(|l| catch(ctx, l)).collect();
     let input = RainInput {
         luma: ctx.luma,
         region: ctx.region,
         source_lines,
+        catch,
         release,
+        washed: preset.stain.washed_opacity > 0.0,
     };
     let (out, kept) = rain::simulate_keeping(
         &input,
@@ -75,7 +79,6 @@ pub(super) fn rain(
         &progress.span(0.0, 0.87),
         &products.keep_rain_at,
     )?;
-    products.rain_kept = kept.into_iter().map(Arc::new).collect();
     let top_edge = r.top_edge.then(|| top_rows(ctx.region));
     let fade = rain::fall::fade(
         grid.width,
@@ -86,32 +89,25 @@ pub(super) fn rain(
         3.0 * release.width,
     );
     let blur = preset.stain.softness + ctx.grid_px(preset.stain.blur_m);
+    let mut stainer = Stainer {
+        ctx,
+        preset,
+        fade,
+        blur,
+        wider: (r.fall_m > 0.0).then_some(blur + 2.0 * release.width),
+        coverage: rain::stain::Coverage::new(grid.width, grid.height),
+        widened: rain::stain::Coverage::new(grid.width, grid.height),
+    };
 
     let d_max = rain::stain::d_max(&out.layers, preset.stain.percentile);
-    let mut layers = Vec::with_capacity(out.layers.len());
-    let mut layer_stats = Vec::with_capacity(out.layers.len());
-    let mut coverage = rain::stain::Coverage::new(grid.width, grid.height);
-    let mut widened = rain::stain::Coverage::new(grid.width, grid.height);
+    let mut layers = Vec::with_capacity(out.layers.len() + 1);
+    let mut layer_stats = Vec::with_capacity(out.layers.len() + 1);
     for (i, rl) in out.layers.iter().enumerate() {
         progress.check()?;
         progress.update("stain", 0.87 + 0.13 * i as f32 / out.layers.len() as f32);
-        let cover = coverage.of(&rl.deposit, d_max, &preset.stain, blur);
-        if r.fall_m > 0.0 {
-            let wider = blur + 2.0 * release.width;
-            let wide = widened.of(&rl.deposit, d_max, &preset.stain, wider);
-            rain::fall::widen(cover, wide, &fade);
-        } else {
-            // No fall: the stain as it is, below the sources.
-            cover
-                .data_mut()
-                .par_iter_mut()
-                .zip(fade.data())
-                .for_each(|(c, f)| *c *= f);
-        }
-        let alpha = grid.upsample(cover, ctx.mask, w, h);
         let pixels = LayerPixels::Tint {
             color: preset.stain.color,
-            alpha,
+            alpha: stainer.alpha(&rl.deposit, d_max),
         };
         let name = format!("rain {:02}", i + 1);
         layers.push(layer(
@@ -123,6 +119,15 @@ pub(super) fn rain(
         ));
         layer_stats.push(Some(rl.stats.clone()));
     }
+    if let Some(washed) = &out.washed {
+        layers.push(stainer.washed(washed));
+        layer_stats.push(None);
+    }
+    products.rain_washed = kept
+        .iter()
+        .filter_map(|k| Some((k.rainfalls, stainer.washed(k.washed.as_ref()?))))
+        .collect();
+    products.rain_kept = kept.into_iter().map(Arc::new).collect();
     products.rain = Some(Arc::new(out));
     Ok(Produced {
         layers,
@@ -134,6 +139,90 @@ pub(super) fn rain(
     })
 }
 
+/// Name of the rain's washed-runs layer, above its rainfalls.
+pub const WASHED: &str = "rain washed";
+
+/// From the rain's grid maps to photo-sized stain alphas: blurred, faded
+/// and widened down the fall below the sources.
+struct Stainer<'a> {
+    ctx: &'a Context<'a>,
+    preset: &'a Preset,
+    /// [`rain::fall::fade`].
+    fade: RowMajor<f32>,
+    /// The stain edge's blur, grid pixels.
+    blur: f32,
+    /// The blur at the end of the fall; `None` = no fall.
+    wider: Option<f32>,
+    coverage: rain::stain::Coverage,
+    widened: rain::stain::Coverage,
+}
+
+impl Stainer<'_> {
+    /// The alpha of `values` measured against `max`.
+    fn alpha(&mut self, values: &ColumnMajor<f32>, max: f32) -> GrayImage {
+        let stain = &self.preset.stain;
+        let cover = self.coverage.of(values, max, stain, self.blur);
+        match self.wider {
+            Some(wider) => {
+                let wide = self.widened.of(values, max, stain, wider);
+                rain::fall::widen(cover, wide, &self.fade);
+            }
+            // No fall: the stain as it is, below the sources.
+            None => cover
+                .data_mut()
+                .par_iter_mut()
+                .zip(self.fade.data())
+                .for_each(|(c, f)| *c *= f),
+        }
+        let (w, h) = self.ctx.size();
+        self.ctx.grid.upsample(cover, self.ctx.mask, w, h)
+    }
+
+    /// The washed runs: where droplets dissolved more dirt than they ever
+    /// left (Chang eqs. 7-8 with a negative net deposit, summed over the
+    /// rainfalls), lighter where more was washed off [choice: net, so a
+    /// washed run never lightens a streak the rain stained; measured
+    /// against its own high percentile, like D_max; screened toward
+    /// `stain.washed_color`, the clean stone under the soot].
+    fn washed(&mut self, washed: &ColumnMajor<f32>) -> Layer {
+        let positive = washed.data().iter().copied().filter(|&v| v > 0.0);
+        let max = percentile(positive, self.preset.stain.percentile, Rank::Nearest)
+            .map_or(1.0, |v| v.max(f32::MIN_POSITIVE));
+        let pixels = LayerPixels::Tint {
+            color: self.preset.stain.washed_color,
+            alpha: self.alpha(washed, max),
+        };
+        layer(
+            Effect::Rain,
+            WASHED.into(),
+            self.preset.stain.washed_opacity,
+            BlendMode::Screen,
+            pixels,
+        )
+    }
+}
+
+/// How much rain a ledge (a polyline in photo pixels) catches: 1 minus the
+/// scene's rain shelter just above it, averaged along it (`how-facades-age.md`:
+/// the wall under a projecting cornice, balcony or eave stays dry).
+fn catch(ctx: &Context, line: &[[f32; 2]]) -> f32 {
+    let above = ctx.photo_px(0.05).max(1.0);
+    let mut samples = Vec::new();
+    for pair in line.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        let steps = (b[0] - a[0]).hypot(b[1] - a[1]).ceil().max(1.0) as usize;
+        samples.extend((0..steps).map(|k| {
+            let t = k as f32 / steps as f32;
+            let (x, y) = (a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t - above);
+            ctx.site.shelter_at(x.max(0.0) as u32, y.max(0.0) as u32)
+        }));
+    }
+    match samples.len() {
+        0 => 1.0,
+        n => 1.0 - samples.iter().sum::<f32>() / n as f32,
+    }
+}
+
 /// The first region row of each grid column (the top-edge source).
 fn top_rows(region: &crate::field::RowMajor<bool>) -> Vec<Option<usize>> {
     (0..region.width())
@@ -142,8 +231,16 @@ fn top_rows(region: &crate::field::RowMajor<bool>) -> Vec<Option<usize>> {
 }
 
 /// A rain layer follows the preset's stain colour and opacity, and shows
-/// only the first `rain.layers` rainfalls.
+/// only the first `rain.layers` rainfalls; the washed runs follow their own
+/// colour and opacity.
 pub(super) fn restyle_rain(layer: &mut Layer, index: usize, preset: &Preset) {
+    if layer.name == WASHED {
+        layer.opacity = preset.stain.washed_opacity;
+        if let LayerPixels::Tint { color, .. } = &mut layer.pixels {
+            *color = preset.stain.washed_color;
+        }
+        return;
+    }
     layer.opacity = preset.stain.opacity;
     if let LayerPixels::Tint { color, .. } = &mut layer.pixels {
         *color = preset.stain.color;
@@ -204,9 +301,10 @@ pub(super) fn moss(
     })
 }
 
-/// Where moss takes (see [`habitat`]): 1 in the splash zone, on ledge
-/// tops and in joints and rain shelter (a little less), `open_wall` on the
-/// rest of the wall.
+/// Where moss takes (see [`habitat`]): 1 in the splash zone and on ledge
+/// tops, a little less in joints, `open_wall` on the rest of the wall; the
+/// rain shelter stays dry (`how-facades-age.md`), so joints there do not
+/// count.
 fn moss_habitat(ctx: &Context, p: &crate::preset::MossParams, seed: u64) -> RowMajor<f32> {
     let mut map = habitat::splash(ctx, p.splash_m);
     let tops = habitat::ledge_tops(ctx, p.ledge_top_m);
@@ -219,7 +317,7 @@ fn moss_habitat(ctx: &Context, p: &crate::preset::MossParams, seed: u64) -> RowM
         .zip(joints.data())
         .zip(shelter.data())
     {
-        *v = v.max(*t).max(0.7 * j).max(0.6 * s);
+        *v = v.max(*t).max(0.7 * j * (1.0 - s));
     }
     // [choice] Growth is patchy along a ledge or a wall's foot: fBm about
     // PATCH_M across scales the places between 0.2 and 1.

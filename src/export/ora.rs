@@ -283,6 +283,7 @@ pub fn composite_op(blend: BlendMode) -> &'static str {
     match blend {
         BlendMode::Normal => "svg:src-over",
         BlendMode::Multiply => "svg:multiply",
+        BlendMode::Screen => "svg:screen",
     }
 }
 

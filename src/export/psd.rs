@@ -422,6 +422,7 @@ pub fn blend_key(blend: BlendMode) -> &'static [u8; 4] {
     match blend {
         BlendMode::Normal => b"norm",
         BlendMode::Multiply => b"mul ",
+        BlendMode::Screen => b"scrn",
     }
 }
 
@@ -762,5 +763,6 @@ mod tests {
         assert_eq!(opacity_byte(0.5), 128);
         assert_eq!(opacity_byte(-1.0), 0);
         assert_eq!(blend_key(BlendMode::Multiply), b"mul ");
+        assert_eq!(blend_key(BlendMode::Screen), b"scrn");
     }
 }

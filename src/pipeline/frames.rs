@@ -17,6 +17,7 @@ use crate::error::{Error, Result};
 use crate::pipeline::Scene;
 use crate::preset::Preset;
 use crate::progress::Progress;
+use crate::stack::Layer;
 
 /// Runs `scene` at `last` (the oldest age), then calls `each` with every
 /// frame's index and outcome, in order; returns the outcome at `last`.
@@ -63,7 +64,16 @@ pub fn run_frames(
             .filter(|(e, (p, _))| e.inputs().is_empty() && !stale(p, frame).contains(e))
             .map(|(e, m)| (*e, m.clone()))
             .collect();
-        made.insert(Effect::Rain, (frame.clone(), first(&rain, kept.rainfalls)));
+        let washed = cache
+            .products
+            .rain_washed
+            .iter()
+            .find(|(n, _)| *n == kept.rainfalls)
+            .map(|(_, l)| l);
+        made.insert(
+            Effect::Rain,
+            (frame.clone(), first(&rain, kept.rainfalls, washed)),
+        );
         let mut frame_cache = Cache {
             keep: false,
             scene: cache.scene.clone(),
@@ -85,12 +95,19 @@ pub fn run_frames(
     Ok(full)
 }
 
-/// The rain's first `n` layers and their stats.
-fn first(rain: &Produced, n: u32) -> Produced {
+/// The rain's first `n` layers and their stats, and the washed runs after
+/// them when there are any.
+fn first(rain: &Produced, n: u32, washed: Option<&Layer>) -> Produced {
     let n = n as usize;
+    let mut layers = rain.layers[..n].to_vec();
+    let mut layer_stats = rain.layer_stats[..n].to_vec();
+    if let Some(washed) = washed {
+        layers.push(washed.clone());
+        layer_stats.push(None);
+    }
     Produced {
-        layers: rain.layers[..n].to_vec(),
-        layer_stats: rain.layer_stats[..n].to_vec(),
+        layers,
+        layer_stats,
         stats: rain.stats.clone(),
     }
 }

@@ -380,6 +380,7 @@ mod tests {
         let (scene, mut p) = small();
         p.moss.enabled = false;
         p.dust.enabled = false;
+        p.stain.washed_opacity = 0.0;
         let mut cache = Cache::default();
         run_cached(&scene, &p, &Progress::none(), &mut cache).unwrap();
         p.rain.layers = 1;

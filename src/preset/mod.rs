@@ -269,6 +269,10 @@ pub struct StainParams {
     pub softness: f32,
     /// Blur radius of the stain edge, metres (added to `softness`).
     pub blur_m: f32,
+    /// Colour the washed runs lighten toward, sRGB (screen blend).
+    pub washed_color: [u8; 3],
+    /// Opacity of the washed-runs layer; 0 = no such layer.
+    pub washed_opacity: f32,
 }
 
 impl Default for StainParams {
@@ -280,6 +284,8 @@ impl Default for StainParams {
             percentile: 0.99,
             softness: 0.0,
             blur_m: 0.03,
+            washed_color: [200, 196, 186],
+            washed_opacity: 0.35,
         }
     }
 }

@@ -329,6 +329,20 @@ pub(super) const CORE: &[ParamSpec] = &[
         1.0,
     ),
     p(
+        "stain.washed_color",
+        "",
+        "Colour the lighter washed runs (where droplets dissolved the wall's dirt) screen toward, sRGB",
+        0.0,
+        255.0,
+    ),
+    p(
+        "stain.washed_opacity",
+        "",
+        "Opacity of the \"rain washed\" layer (0 = none)",
+        0.0,
+        1.0,
+    ),
+    p(
         "moss.enabled",
         "",
         "Grow moss (a \"moss\" layer above the rain layers)",

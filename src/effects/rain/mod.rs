@@ -33,8 +33,14 @@ pub struct RainInput<'a> {
     pub region: &'a RowMajor<bool>,
     /// Source polylines in grid coordinates.
     pub source_lines: Vec<Vec<(f32, f32)>>,
+    /// Per source line, the share of the rain it catches: 1 in the open,
+    /// less under an overhang (the scene's rain shelter); missing = 1.
+    pub catch: Vec<f32>,
     /// Where along the sources water leaves, grid pixels.
     pub release: Release,
+    /// Whether to keep the dirt the droplets washed off
+    /// ([`RainOutput::washed`]).
+    pub washed: bool,
 }
 
 /// Numbers describing one rainfall.
@@ -93,6 +99,11 @@ pub struct RainOutput {
     pub dirt: RowMajor<f32>,
     /// Vertical roughness M_y of the final surface (eq. 1).
     pub roughness_y: RowMajor<f32>,
+    /// The dirt the droplets took off the wall net of what they left, per
+    /// pixel, summed over the rainfalls (each rainfall's baseline minus D):
+    /// positive where the rain cleaned the wall, negative where it stained
+    /// it; `None` unless [`RainInput::washed`].
+    pub washed: Option<ColumnMajor<f32>>,
 }
 
 /// Droplets per rainfall for a region `width` grid pixels wide.
@@ -133,8 +144,8 @@ pub struct Cost {
     /// Droplet steps, about: each run for the grid's height at `v_max`
     /// pixels a step, at most `max_steps`.
     pub steps: u64,
-    /// Bytes: the wall, every rainfall's deposit, every droplet's path and
-    /// start, and the droplets in flight.
+    /// Bytes: the wall, every rainfall's deposit, the washed dirt, every
+    /// droplet's path and start, and the droplets in flight.
     pub bytes: u64,
 }
 
@@ -150,7 +161,7 @@ impl Cost {
         let padded = (width as u64 + 2) * (height as u64 + 2);
         let f32s = std::mem::size_of::<f32>() as u64;
         let bytes = padded * 7 * f32s
-            + cells * layers * f32s
+            + cells * (layers + 1) * f32s
             + runs * std::mem::size_of::<Path>() as u64
             + n * 2 * f32s
             + n.min(SCHEDULE as u64) * 2 * std::mem::size_of::<Runner>() as u64;
@@ -244,8 +255,21 @@ pub fn simulate_keeping(
             Warp::new(s.length(), &input.release, &mut rng)
         })
         .collect();
+    // [choice, beyond Chang:] a source catches rain in proportion to its
+    // length times how open it is, so droplets start less often on a
+    // ledge under a balcony or an eave.
+    let top = usize::from(p.top_edge && sources.len() > input.source_lines.len());
+    let spans: Vec<f32> = sources
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let catch = i.checked_sub(top).and_then(|l| input.catch.get(l));
+            s.length() * catch.copied().unwrap_or(1.0).clamp(0.0, 1.0)
+        })
+        .collect();
     let clouds = Clouds {
-        total_len: sources.iter().map(Source::length).sum(),
+        total_len: spans.iter().sum(),
+        spans,
         sources,
         warps,
         p,
@@ -263,8 +287,11 @@ pub fn simulate_keeping(
     let mut starts: Vec<(f32, f32)> = vec![(0.0, 0.0); n];
     let mut layers: Vec<RainLayer> = Vec::with_capacity(p.layers as usize);
     let mut kept = Vec::new();
+    let mut washed = input
+        .washed
+        .then(|| ColumnMajor::filled(width, height, 0.0));
     if keep.contains(&0) {
-        kept.push(Kept::of(&wall, 0));
+        kept.push(Kept::of(&wall, 0, washed.as_ref()));
     }
 
     for layer in 0..p.layers {
@@ -329,13 +356,25 @@ pub fn simulate_keeping(
                 .flatten();
             let begin = begins_next.then(|| Begin::new(p, seed, next, &wall, noise.as_ref()));
             let output = last.then_some(deposit.data_mut());
-            columns = diffusion_round(&mut wall, p, rounds, output, begin.as_ref());
+            columns = diffusion_round(&mut wall, p, rounds, output, begin.as_ref(), input.washed);
             progress.update(
                 "rain",
                 (layer as f32 + (round + 1) as f32 / rounds as f32) / p.layers as f32,
             );
         }
 
+        // The deposit pass wrote D minus its baseline: the rainfall's net
+        // cleaning is its negative, the deposit its positive part.
+        if let Some(washed) = washed.as_mut() {
+            washed
+                .data_mut()
+                .par_iter_mut()
+                .zip(deposit.data_mut())
+                .for_each(|(w, d)| {
+                    *w -= *d;
+                    *d = d.max(0.0);
+                });
+        }
         // Column sums in column order: the same at any thread count.
         let (sum, max) = columns
             .iter()
@@ -348,7 +387,7 @@ pub fn simulate_keeping(
             paths,
         });
         if keep.contains(&(layer + 1)) {
-            kept.push(Kept::of(&wall, layer + 1));
+            kept.push(Kept::of(&wall, layer + 1, washed.as_ref()));
             if layer + 1 < p.layers {
                 let noise = grime_noise(&wall, p, seed, layer + 1);
                 let begin = Begin::new(p, seed, layer + 1, &wall, noise.as_ref());
@@ -366,6 +405,7 @@ pub fn simulate_keeping(
         water: unpad(&wall, |i| wall.w[i], water),
         dirt: unpad(&wall, |i| wall.d[i], dirt),
         roughness_y: unpad(&wall, |i| wall.roughness(i).1, roughness),
+        washed,
     };
     Ok((out, kept))
 }
@@ -381,15 +421,18 @@ pub struct Kept {
     pub dirt: RowMajor<f32>,
     /// Vertical roughness M_y.
     pub roughness_y: RowMajor<f32>,
+    /// The net dirt washed off so far ([`RainOutput::washed`]).
+    pub washed: Option<ColumnMajor<f32>>,
 }
 
 impl Kept {
-    fn of(wall: &Wall, rainfalls: u32) -> Kept {
+    fn of(wall: &Wall, rainfalls: u32, washed: Option<&ColumnMajor<f32>>) -> Kept {
         Kept {
             rainfalls,
             water: unpad(wall, |i| wall.w[i], Vec::new()),
             dirt: unpad(wall, |i| wall.d[i], Vec::new()),
             roughness_y: unpad(wall, |i| wall.roughness(i).1, Vec::new()),
+            washed: washed.cloned(),
         }
     }
 }
@@ -404,6 +447,7 @@ impl RainOutput {
             water: kept.water.clone(),
             dirt: kept.dirt.clone(),
             roughness_y: kept.roughness_y.clone(),
+            washed: kept.washed.clone(),
         }
     }
 }
@@ -425,9 +469,11 @@ impl LayerStats {
 /// Where droplets come from: the sources and the draws that start them.
 struct Clouds<'a> {
     sources: Vec<Source>,
+    /// Each source's length times the share of rain it catches.
+    spans: Vec<f32>,
     /// Each source's release points ([`Warp`]); `None` = uniform.
     warps: Vec<Option<Warp>>,
-    /// The sources' total length.
+    /// The spans' total.
     total_len: f32,
     p: &'a RainParams,
     seed: u64,
@@ -459,8 +505,15 @@ impl Clouds<'_> {
         if start.1 < p.mass_min {
             return None;
         }
-        let (si, u) = sources::pick(&self.sources, start.0);
+        let (si, along) = sources::pick(&self.spans, start.0);
         let source = &self.sources[si];
+        // Back from the span to the source's own length.
+        let (span, len) = (self.spans[si], source.length());
+        let u = if span == len {
+            along
+        } else {
+            along * len / span.max(f32::MIN_POSITIVE)
+        };
         let u = match &self.warps[si] {
             Some(warp) => warp.at(u, source.length()),
             None => u,
@@ -557,13 +610,15 @@ impl<'a> Begin<'a> {
 /// dirt and its baseline. After the rainfall's last round, also the
 /// rainfall's deposit into `deposit` (column-major) and the start of the
 /// next rainfall (`begin`). Returns each column's deposit sum and maximum
-/// (zero but after the last round).
+/// (zero but after the last round). `signed` writes D minus its baseline
+/// where it is negative too.
 fn diffusion_round(
     wall: &mut Wall,
     p: &RainParams,
     rounds: usize,
     deposit: Option<&mut [f32]>,
     begin: Option<&Begin>,
+    signed: bool,
 ) -> Vec<(f64, f32)> {
     let (iterations, evaporation) = if p.diffusion_rounds > 0 {
         (p.diffusion_iterations, p.i_sun)
@@ -593,9 +648,12 @@ fn diffusion_round(
         let (mut sum, mut max) = (0.0, 0.0f32);
         let (d, base) = (&col.d[1..], &col.baseline[1..]);
         for ((dep, d), base) in col.output.iter_mut().zip(d).zip(base) {
-            *dep = (d - base).max(0.0);
-            sum += *dep as f64;
-            max = max.max(*dep);
+            // Signed when the washed dirt is kept: the deposit is the
+            // positive part, the washed dirt the negative (`simulate_keeping`).
+            let positive = (d - base).max(0.0);
+            *dep = if signed { d - base } else { positive };
+            sum += positive as f64;
+            max = max.max(positive);
         }
         if let Some(begin) = begin {
             begin.column(&mut col);

@@ -181,14 +181,15 @@ pub fn top_edge(wall: &Wall) -> Vec<(f32, f32)> {
 
 use super::wall::Wall;
 
-/// Picks the source at cumulative-length position `u` in `0..total`.
-pub fn pick(sources: &[Source], u: f32) -> (usize, f32) {
+/// Picks the span at cumulative position `u` in `0..sum of spans`: its
+/// index and how far into it `u` lies.
+pub fn pick(spans: &[f32], u: f32) -> (usize, f32) {
     let mut u = u;
-    for (i, s) in sources.iter().enumerate() {
-        if u < s.length() || i + 1 == sources.len() {
-            return (i, u.min(s.length()));
+    for (i, &span) in spans.iter().enumerate() {
+        if (u < span && span > 0.0) || i + 1 == spans.len() {
+            return (i, u.clamp(0.0, span));
         }
-        u -= s.length();
+        u -= span;
     }
     (0, 0.0)
 }
@@ -221,12 +222,11 @@ mod tests {
 
     #[test]
     fn pick_splits_by_length() {
-        let s = vec![
-            Source::line(vec![(0.0, 0.0), (10.0, 0.0)]),
-            Source::line(vec![(0.0, 5.0), (30.0, 5.0)]),
-        ];
+        let s = [10.0, 30.0];
         assert_eq!(pick(&s, 4.0), (0, 4.0));
         assert_eq!(pick(&s, 12.0), (1, 2.0));
         assert_eq!(pick(&s, 100.0), (1, 30.0));
+        // A sheltered source (no span) is never picked.
+        assert_eq!(pick(&[0.0, 5.0], 0.0), (1, 0.0));
     }
 }

@@ -31,7 +31,9 @@ fn dirt_is_conserved_between_droplets_and_wall() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        catch: vec![],
         release: Release::UNIFORM,
+        washed: false,
     };
     // No fresh grime: all dirt comes off the ledges with the droplets.
     let p = RainParams {
@@ -52,6 +54,112 @@ fn dirt_is_conserved_between_droplets_and_wall() {
 }
 
 #[test]
+fn what_droplets_wash_off_and_deposit_balances_what_they_bring_and_lose() {
+    // A grimy wall: droplets dissolve some of it (Chang eqs. 7-8) and leave
+    // it lower down; the rest runs off. Per rainfall, the dirt the droplets
+    // added minus what they washed off is what they brought off the ledges
+    // minus what they lost.
+    let (luma, region) = wall_input(64, 96);
+    let input = RainInput {
+        luma: &luma,
+        region: &region,
+        source_lines: vec![],
+        catch: vec![],
+        release: Release::UNIFORM,
+        washed: true,
+    };
+    let p = RainParams {
+        initial_dirt: 5.0,
+        ledge_dirt: 0.5,
+        ..one_layer()
+    };
+    let out = simulate(&input, &p, 3, &Progress::none()).unwrap();
+    let s = &out.layers[0].stats;
+    let sum = |f: &ColumnMajor<f32>| f.data().iter().map(|&v| v as f64).sum::<f64>();
+    let net = out.washed.as_ref().unwrap();
+    let cleaned: f64 = net.data().iter().map(|&v| v.max(0.0) as f64).sum();
+    let deposit = sum(&out.layers[0].deposit);
+    assert!(
+        cleaned > 0.05 * deposit,
+        "cleaned {cleaned} vs deposit {deposit}"
+    );
+    let err = (sum(net) + s.dirt_from_ledges - s.dirt_lost).abs();
+    assert!(
+        err < 1e-3 * (deposit + cleaned),
+        "net washed {} != lost {} - brought {}",
+        sum(net),
+        s.dirt_lost,
+        s.dirt_from_ledges
+    );
+    // Without droplets nothing is washed off, and the flag only adds the map.
+    let dry = simulate(
+        &input,
+        &RainParams {
+            droplets: 0,
+            ..p.clone()
+        },
+        3,
+        &Progress::none(),
+    )
+    .unwrap();
+    assert_eq!(sum(dry.washed.as_ref().unwrap()), 0.0);
+    let plain = simulate(
+        &RainInput {
+            washed: false,
+            ..input.clone()
+        },
+        &p,
+        3,
+        &Progress::none(),
+    )
+    .unwrap();
+    assert!(plain.washed.is_none());
+    assert_eq!(plain.layers[0].deposit.data(), out.layers[0].deposit.data());
+}
+
+#[test]
+fn a_sheltered_ledge_sheds_less_water_than_an_open_one() {
+    // Two equal ledges; the right one catches a quarter of the rain.
+    let (luma, region) = wall_input(120, 80);
+    let lines = vec![
+        vec![(10.0, 20.0), (50.0, 20.0)],
+        vec![(70.0, 20.0), (110.0, 20.0)],
+    ];
+    let starts = |catch: Vec<f32>| {
+        let input = RainInput {
+            luma: &luma,
+            region: &region,
+            source_lines: lines.clone(),
+            catch,
+            release: Release::UNIFORM,
+            washed: false,
+        };
+        let p = RainParams {
+            top_edge: false,
+            droplets: 400,
+            ..one_layer()
+        };
+        let out = simulate(&input, &p, 9, &Progress::none()).unwrap();
+        let right = out.layers[0]
+            .paths
+            .iter()
+            .filter(|q| q.start.0 > 60.0)
+            .count();
+        (out.layers[0].paths.len() - right, right)
+    };
+    let (left, right) = starts(vec![1.0, 0.25]);
+    let ratio = right as f32 / left as f32;
+    assert!((0.17..=0.33).contains(&ratio), "{right} vs {left}");
+    // Open ledges share the rain by length; a fully sheltered one gets none.
+    let (left, right) = starts(vec![]);
+    assert!(
+        (0.8..=1.25).contains(&(right as f32 / left as f32)),
+        "{right} vs {left}"
+    );
+    assert_eq!(starts(vec![1.0, 0.0]).1, 0);
+}
+
+#[test]
 fn droplets_start_on_the_source_line_and_end_lower() {
     let (luma, region) = wall_input(80, 120);
     let line = vec![(10.0, 30.0), (70.0, 30.0)];
@@ -59,7 +167,9 @@ fn droplets_start_on_the_source_line_and_end_lower() {
         luma: &luma,
         region: &region,
         source_lines: vec![line],
+        catch: vec![],
         release: Release::UNIFORM,
+        washed: false,
     };
     let p = RainParams {
         top_edge: false,
@@ -105,7 +215,9 @@ fn heavier_droplets_run_further() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        catch: vec![],
         release: Release::UNIFORM,
+        washed: false,
     };
     let mean_run = |mass_max: f32| {
         let p = RainParams {
@@ -140,7 +252,9 @@ fn cancel_stops_mid_layer() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        catch: vec![],
         release: Release::UNIFORM,
+        washed: false,
     };
     let cancel = AtomicBool::new(true);
     let r = simulate(
@@ -161,7 +275,9 @@ fn deposits_raise_streak_channels_but_keep_the_wall_rough() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        catch: vec![],
         release: Release::UNIFORM,
+        washed: false,
     };
     let p = RainParams {
         layers: 12,
@@ -188,7 +304,9 @@ fn the_same_rain_at_any_thread_count() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        catch: vec![],
         release: Release::UNIFORM,
+        washed: false,
     };
     let p = RainParams {
         layers: 3,
@@ -225,7 +343,9 @@ fn an_in_range_preset_that_asks_too_much_is_refused_before_it_starts() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        catch: vec![],
         release: Release::UNIFORM,
+        washed: false,
     };
     let p = RainParams {
         droplets: 100_000,
@@ -262,7 +382,9 @@ fn droplets_in_several_schedules_are_the_same_at_any_thread_count() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        catch: vec![],
         release: Release::UNIFORM,
+        washed: false,
     };
     let p = RainParams {
         layers: 1,
@@ -293,7 +415,9 @@ fn kept_walls_are_the_shorter_runs() {
         luma: &luma,
         region: &region,
         source_lines: vec![],
+        catch: vec![],
         release: Release::UNIFORM,
+        washed: false,
     };
     let p = |layers| RainParams {
         layers,
