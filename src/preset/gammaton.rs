@@ -70,14 +70,7 @@ impl Default for GammatonParams {
             flow_step: 2.0,
             wander: 0.3,
             consistent: true,
-            sources: vec![GammaSource {
-                kind: SourceKind::Sky,
-                share: 1.0,
-                points: Vec::new(),
-                spots: 0,
-                mask: String::new(),
-                carries: vec![1.0],
-            }],
+            sources: vec![GammaSource::new(SourceKind::Sky, vec![1.0])],
             substances: vec![Substance {
                 name: "dirt".into(),
                 absorb: 0.05,
@@ -98,7 +91,8 @@ impl Default for GammatonParams {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum SourceKind {
-    /// Rain from the sky: first contact anywhere on the wall, then down.
+    /// Rain from the sky: first contact anywhere on the wall the ledges do
+    /// not shelter from its direction, then down.
     Sky,
     /// Splash from the ground: thrown up the foot of the wall.
     Ground,
@@ -130,6 +124,18 @@ pub struct GammaSource {
     /// folder), the photo's size.
     #[serde(default)]
     pub mask: String,
+    /// For `sky`: the rain's angle from vertical on the image plane,
+    /// degrees; positive falls to the right (wind from the left).
+    #[serde(default)]
+    pub direction: f32,
+    /// For `sky`: the spread of the rain's angles around `direction`,
+    /// degrees (uniform within ± spread).
+    #[serde(default)]
+    pub spread: f32,
+    /// For `sky`: how far below a cornice its shelter reaches, metres
+    /// (1/e; sills reach less); 0 = ledges shelter nothing.
+    #[serde(default = "sky_shelter")]
+    pub shelter: f32,
     /// What each γ-ton starts with, per substance in `substances` order.
     #[serde(default)]
     pub carries: Vec<f32>,
@@ -137,6 +143,32 @@ pub struct GammaSource {
 
 fn one() -> f32 {
     1.0
+}
+
+/// The default reach of a cornice's rain shelter, metres [choice: driving
+/// rain reaches about 0.5 m under a cornice projecting 0.3 m].
+pub const SKY_SHELTER_M: f32 = 0.5;
+
+fn sky_shelter() -> f32 {
+    SKY_SHELTER_M
+}
+
+impl GammaSource {
+    /// A source of `kind` with share 1 carrying `carries`, the other
+    /// fields at their defaults.
+    pub fn new(kind: SourceKind, carries: Vec<f32>) -> GammaSource {
+        GammaSource {
+            kind,
+            share: 1.0,
+            points: Vec::new(),
+            spots: 0,
+            mask: String::new(),
+            direction: 0.0,
+            spread: 0.0,
+            shelter: SKY_SHELTER_M,
+            carries,
+        }
+    }
 }
 
 /// One substance: a map on the grid, and a layer.
@@ -290,6 +322,17 @@ impl GammatonParams {
                     "the path of a greyscale image for kind = \"mask\" (white = emit), \"\" for other kinds",
                 ));
             }
+            let sky = s.kind == SourceKind::Sky;
+            if !sky && (s.direction != 0.0 || s.spread != 0.0 || s.shelter != SKY_SHELTER_M) {
+                return Err(bad(
+                    field("direction"),
+                    format!(
+                        "direction {}, spread {}, shelter {}",
+                        s.direction, s.spread, s.shelter
+                    ),
+                    "direction, spread and shelter only on kind = \"sky\" (leave them out for other kinds)",
+                ));
+            }
             if s.points.iter().flatten().any(|c| !c.is_finite()) {
                 return Err(bad(
                     field("points"),
@@ -330,14 +373,7 @@ impl GammatonParams {
 /// The γ-ton part of the built-in presets `rust-runs`, `salt-bloom` and
 /// `splash` (anything else: the defaults).
 pub fn builtin(name: &str) -> GammatonParams {
-    let source = |kind, carries: Vec<f32>| GammaSource {
-        kind,
-        share: 1.0,
-        points: Vec::new(),
-        spots: 0,
-        mask: String::new(),
-        carries,
-    };
+    let source = GammaSource::new;
     let fade = |color: [u8; 3], opacity: f32| {
         vec![Stop::new(0.0, color, 0.0), Stop::new(1.0, color, opacity)]
     };
@@ -392,10 +428,7 @@ pub fn builtin(name: &str) -> GammatonParams {
             hop: 14.0,
             consistent: false,
             radius: 2.0,
-            sources: vec![GammaSource {
-                kind: SourceKind::Ground,
-                ..source(SourceKind::Ground, vec![1.0, 0.0])
-            }],
+            sources: vec![source(SourceKind::Ground, vec![1.0, 0.0])],
             substances: vec![
                 Substance {
                     name: "water".into(),
