@@ -484,6 +484,20 @@ pub fn load_masks(
         .collect()
 }
 
+/// A stamp of the painted masks `p`'s mask sources read (their paths and
+/// contents), so that a kept output goes stale when a mask is repainted
+/// under the same preset ([`crate::pipeline::run_cached`]). A mask that
+/// cannot be read stamps as such (the run then reports it).
+pub fn files_stamp(p: &GammatonParams) -> u64 {
+    use std::hash::{Hash as _, Hasher as _};
+    let mut h = std::hash::DefaultHasher::new();
+    for s in p.sources.iter().filter(|s| s.kind == SourceKind::Mask) {
+        s.mask.hash(&mut h);
+        std::fs::read(&s.mask).ok().hash(&mut h);
+    }
+    h.finish()
+}
+
 /// The point a fraction `t` along the polylines' total length.
 fn point_on(lines: &[Vec<(f32, f32)>], t: f32) -> (f32, f32) {
     let segments = || {

@@ -442,3 +442,47 @@ fn a_mask_source_needs_its_mask_the_photos_size() {
     let e = simulate(&luma, &region, &scenery, &p, 1, &Progress::none());
     assert!(matches!(e, Err(Error::Preset(m)) if m.contains("paints no wall pixel")));
 }
+
+#[test]
+fn a_cached_run_sees_a_repainted_mask() {
+    use crate::pipeline::{Cache, Scene, run, run_cached};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("painted.png");
+    let paint = |left: bool| {
+        image::GrayImage::from_fn(40, 30, |x, _| {
+            image::Luma([255 * u8::from((x < 20) == left)])
+        })
+        .save(&path)
+        .unwrap()
+    };
+    let photo = image::RgbImage::from_pixel(40, 30, image::Rgb([150, 140, 130]));
+    let scene = Scene::new(crate::photo::Photo::new(photo.into()), None).unwrap();
+    let mut preset = Preset::default();
+    preset.gammaton.enabled = true;
+    preset.gammaton.particles = 2000;
+    preset.gammaton.sources = vec![GammaSource {
+        mask: path.to_string_lossy().into_owned(),
+        ..GammaSource::new(SourceKind::Mask, vec![1.0])
+    }];
+    let gamma = |out: crate::pipeline::Outcome| -> Vec<u8> {
+        let layer = out.stack.layers.into_iter();
+        match layer.last().map(|l| (l.kind, l.pixels)) {
+            Some((Some(Effect::Gammaton), LayerPixels::Rgba(img))) => img.into_raw(),
+            _ => panic!("the γ-ton layer comes last"),
+        }
+    };
+    let none = Progress::none();
+    let mut cache = Cache::default();
+    paint(true);
+    let left = gamma(run_cached(&scene, &preset, &none, &mut cache).unwrap());
+    // The same preset, the mask repainted (as in the GUI): the γ-tons run again.
+    paint(false);
+    let right = gamma(run_cached(&scene, &preset, &none, &mut cache).unwrap());
+    assert!(
+        left != right,
+        "the kept γ-tons were shown for a repainted mask"
+    );
+    assert!(right == gamma(run(&scene, &preset, &none).unwrap()));
+    // Unchanged, the kept output is used (and equals a fresh run).
+    assert!(right == gamma(run_cached(&scene, &preset, &none, &mut cache).unwrap()));
+}
