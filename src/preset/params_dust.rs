@@ -365,7 +365,7 @@ pub(super) const DUST_AND_GAMMATON: &[ParamSpec] = &[
     p(
         "gammaton.substances",
         "",
-        "Substances (at most 4): [{ name, absorb, deposit, initial, scale, stops = [{ value, color, opacity }] }]",
+        "Substances (at most 4): [{ name, absorb, deposit, initial, scale, filter, stops = [{ value, color, opacity }] }]",
         0.0,
         0.0,
     ),
@@ -396,6 +396,13 @@ pub(super) const DUST_AND_GAMMATON: &[ParamSpec] = &[
         "Concentration above initial shown by the last blend stop (the layer shows what the gamma-tons gathered)",
         1e-06,
         1000000.0,
+    ),
+    p(
+        "gammaton.substances.filter",
+        "",
+        "Texture synthesis: a pixel shows the mean concentration over the wall pixels within this many grid pixels (the thesis's texels average their near surfels); 0 = its own",
+        0.0,
+        16.0,
     ),
     p(
         "gammaton.rules",

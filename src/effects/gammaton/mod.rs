@@ -570,6 +570,15 @@ pub(super) fn stage(
     let mut layers = Vec::with_capacity(out.maps.len());
     for (s, map) in p.substances.iter().zip(&out.maps) {
         progress.check()?;
+        // Texture synthesis: the mean over the near wall pixels.
+        let filtered;
+        let map = match s.filter {
+            0 => map,
+            r => {
+                filtered = crate::effects::moss::box_mean(map, ctx.region, r as usize);
+                &filtered
+            }
+        };
         // What the γ-tons gathered beyond the wall's own content.
         let scaled = RowMajor::from_fn(map.width(), map.height(), |x, y| {
             ((map.get(x, y) - s.initial) / s.scale).clamp(0.0, 1.0)

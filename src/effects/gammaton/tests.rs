@@ -11,6 +11,7 @@ fn wall(w: usize, h: usize) -> (RowMajor<f32>, RowMajor<bool>) {
 fn substance(name: &str, absorb: f32, deposit: f32, initial: f32) -> Substance {
     Substance {
         name: name.into(),
+        filter: 0,
         absorb,
         deposit,
         initial,
@@ -485,4 +486,40 @@ fn a_cached_run_sees_a_repainted_mask() {
     assert!(right == gamma(run(&scene, &preset, &none).unwrap()));
     // Unchanged, the kept output is used (and equals a fresh run).
     assert!(right == gamma(run_cached(&scene, &preset, &none, &mut cache).unwrap()));
+}
+
+#[test]
+fn the_filter_spreads_a_substance_over_the_near_wall() {
+    use crate::pipeline::{Scene, run};
+    // Settle-only γ-tons from one painted pixel: all the dirt sits there;
+    // a filter of 2 shows it as the mean over a 5 x 5 window.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("dot.png");
+    image::GrayImage::from_fn(40, 30, |x, y| {
+        image::Luma([255 * u8::from((x, y) == (20, 15))])
+    })
+    .save(&path)
+    .unwrap();
+    let photo = image::RgbImage::from_pixel(40, 30, image::Rgb([150, 140, 130]));
+    let scene = Scene::new(crate::photo::Photo::new(photo.into()), None).unwrap();
+    let mut preset = Preset::default();
+    let g = &mut preset.gammaton;
+    g.enabled = true;
+    g.particles = 500;
+    (g.p_straight, g.p_parabolic, g.p_flow, g.radius) = (0.0, 0.0, 0.0, 0.0);
+    g.substances[0].scale = 1e-3;
+    g.sources = vec![GammaSource {
+        mask: path.to_string_lossy().into_owned(),
+        ..GammaSource::new(SourceKind::Mask, vec![1.0])
+    }];
+    let covered = |preset: &Preset| -> usize {
+        let out = run(&scene, preset, &Progress::none()).unwrap();
+        match &out.stack.layers.last().unwrap().pixels {
+            LayerPixels::Rgba(img) => img.pixels().filter(|p| p[3] > 0).count(),
+            _ => panic!("an RGBA layer"),
+        }
+    };
+    assert_eq!(covered(&preset), 1);
+    preset.gammaton.substances[0].filter = 2;
+    assert_eq!(covered(&preset), 25);
 }
