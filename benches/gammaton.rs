@@ -21,7 +21,15 @@ fn million(c: &mut Criterion) {
     group.sample_size(10);
     group.bench_function("1M gamma-tons, 1024x1024, default motion", |b| {
         b.iter(|| {
-            gammaton::simulate(&luma, &region, &[], &[], &p, 1, &Progress::none()).expect("run")
+            gammaton::simulate(
+                &luma,
+                &region,
+                &Default::default(),
+                &p,
+                1,
+                &Progress::none(),
+            )
+            .expect("run")
         })
     });
     group.finish();

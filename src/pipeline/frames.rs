@@ -78,6 +78,7 @@ pub fn run_frames(
             keep: false,
             scene: cache.scene.clone(),
             made,
+            stamps: cache.stamps.clone(),
             products: Products {
                 rain: Some(Arc::new(whole.prefix(kept))),
                 ..Products::default()

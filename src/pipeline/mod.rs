@@ -58,6 +58,9 @@ pub struct Cache {
     keep: bool,
     scene: Option<Scene>,
     made: BTreeMap<Effect, (Preset, Produced)>,
+    /// Per effect in `made`: the stamp of the files it read
+    /// ([`files_stamp`]; none = 0).
+    stamps: BTreeMap<Effect, u64>,
     products: Products,
 }
 
@@ -68,6 +71,7 @@ impl Default for Cache {
             keep: true,
             scene: None,
             made: BTreeMap::new(),
+            stamps: BTreeMap::new(),
             products: Products::default(),
         }
     }
@@ -91,6 +95,7 @@ impl Cache {
         self.made
             .iter()
             .filter(|(e, (old, _))| !crate::effects::stale(old, preset).contains(e))
+            .filter(|(e, _)| self.stamps.get(e).copied().unwrap_or(0) == files_stamp(**e, preset))
             .map(|(e, _)| *e)
             .collect()
     }
@@ -187,10 +192,12 @@ fn run_effects(
             }
             _ => {
                 rerun.insert(effect);
+                let stamp = files_stamp(effect, made_with);
                 let made =
                     effect.run(&ctx, &mut cache.products, preset, &progress.span(at, end))?;
                 if cache.keep {
                     cache.made.insert(effect, (made_with.clone(), made.clone()));
+                    cache.stamps.insert(effect, stamp);
                 }
                 clock.lap(effect.name());
                 made
@@ -236,6 +243,16 @@ fn run_effects(
         rain,
         grid,
     })
+}
+
+/// A stamp of the files `effect` reads besides the scene and the preset
+/// (the γ-tons' painted masks), so a kept output goes stale when one of
+/// them changes under the same preset; 0 for effects that read none.
+fn files_stamp(effect: Effect, preset: &Preset) -> u64 {
+    match effect {
+        Effect::Gammaton => crate::effects::gammaton::files_stamp(&preset.gammaton),
+        _ => 0,
+    }
 }
 
 /// The effects in the wall plane of `quad` (Endo et al.), with layers

@@ -295,7 +295,7 @@ pub(super) const DUST_AND_GAMMATON: &[ParamSpec] = &[
     p(
         "gammaton.sources",
         "",
-        "Sources: [{ kind = \"sky\" | \"ground\" | \"line\" | \"mask\", share, points = [[x, y], ...] (photo pixels, line only), mask = \"painted.png\" (mask only: greyscale, the photo's size, white = emit; relative to the working folder), carries = [amount per substance] }]",
+        "Sources: [{ kind = \"sky\" | \"ground\" | \"line\" | \"mask\", share, direction, spread, shelter (sky only), points = [[x, y], ...] (photo pixels, line only), spots (line only), mask = \"painted.png\" (mask only: greyscale, the photo's size, white = emit; relative to the working folder), carries = [amount per substance] }]",
         0.0,
         0.0,
     ),
@@ -312,6 +312,27 @@ pub(super) const DUST_AND_GAMMATON: &[ParamSpec] = &[
         "Line sources: emit from this many fixed spots along the line (fixings, brackets); 0 = anywhere along it",
         0.0,
         10000.0,
+    ),
+    p(
+        "gammaton.sources.direction",
+        "",
+        "Sky sources: the rain's angle from vertical on the image plane, degrees; positive falls to the right (wind from the left), so ledges shelter the wall to the right below them",
+        -80.0,
+        80.0,
+    ),
+    p(
+        "gammaton.sources.spread",
+        "",
+        "Sky sources: the spread of the rain's angles around its direction, degrees (uniform within plus or minus this); blurs the sides of the ledges' shelter",
+        0.0,
+        80.0,
+    ),
+    p(
+        "gammaton.sources.shelter",
+        "",
+        "Sky sources: how far below a cornice its rain shelter reaches, metres (1/e; balconies 0.75 of it, sills and window heads 0.3); ledges catch the rain there. 0 = no shelter",
+        0.0,
+        20.0,
     ),
     p(
         "gammaton.sources.carries",
@@ -344,7 +365,7 @@ pub(super) const DUST_AND_GAMMATON: &[ParamSpec] = &[
     p(
         "gammaton.substances",
         "",
-        "Substances (at most 4): [{ name, absorb, deposit, initial, scale, stops = [{ value, color, opacity }] }]",
+        "Substances (at most 4): [{ name, absorb, deposit, initial, scale, filter, stops = [{ value, color, opacity }] }]",
         0.0,
         0.0,
     ),
@@ -375,6 +396,13 @@ pub(super) const DUST_AND_GAMMATON: &[ParamSpec] = &[
         "Concentration above initial shown by the last blend stop (the layer shows what the gamma-tons gathered)",
         1e-06,
         1000000.0,
+    ),
+    p(
+        "gammaton.substances.filter",
+        "",
+        "Texture synthesis: a pixel shows the mean concentration over the wall pixels within this many grid pixels (the thesis's texels average their near surfels); 0 = its own",
+        0.0,
+        16.0,
     ),
     p(
         "gammaton.rules",

@@ -3,8 +3,10 @@
 //! dirt, rust, salt, or the user's own) from sources over the wall.
 //!
 //! Each iteration emits `particles` γ-tons from the sources (the sky: a
-//! first contact anywhere on the wall; the ground: thrown up the foot of
-//! the wall; a line: a fixing or railing, by default the rain's ledges),
+//! first contact anywhere on the wall the ledges do not shelter from the
+//! rain's direction, [`sky`]; the ground: thrown up the foot of the wall;
+//! a line: a fixing or railing, by default the rain's ledges; a painted
+//! mask),
 //! traces each through contacts where it exchanges substance with the wall
 //! ([`particle::exchange`]), deteriorates its motion probabilities
 //! ([`particle::deteriorate`]) and picks its next motion by Russian roulette
@@ -21,6 +23,7 @@
 
 pub mod particle;
 pub mod rules;
+pub mod sky;
 
 use rand::Rng as _;
 use rayon::prelude::*;
@@ -30,6 +33,7 @@ use image::GrayImage;
 use serde::Serialize;
 
 use self::particle::{Fate, Gammaton, Laws, MAX_RADIUS, Motion, World};
+use self::sky::Overhang;
 use super::{Context, Effect, Produced, Products, Stats, patches};
 use crate::error::{Error, Result};
 use crate::field::RowMajor;
@@ -87,10 +91,21 @@ pub struct Outcome {
     pub stats: GammaStats,
 }
 
-/// Runs every iteration. `lines` are polylines in grid pixels for line
-/// sources without points of their own (the rain's ledges); `masks` are,
-/// per source, the painted masks of mask sources on the grid (0..1, 1 =
-/// emit; see [`mask_on_grid`]).
+/// What the sources take from the scene, on the grid.
+#[derive(Default)]
+pub struct Scenery {
+    /// Polylines in grid pixels for line sources without points of their
+    /// own (the rain's ledges).
+    pub lines: Vec<Vec<(f32, f32)>>,
+    /// Per source, the painted masks of mask sources (0..1, 1 = emit; see
+    /// [`mask_on_grid`]).
+    pub masks: Vec<Option<RowMajor<f32>>>,
+    /// The ledges that shelter the wall from the sky's rain.
+    pub overhangs: Vec<Overhang>,
+}
+
+/// Runs every iteration on the wall of `luma` and `region` with what the
+/// sources take from `scenery`.
 ///
 /// # Errors
 /// [`Error::Cancelled`], and [`Error::Preset`] for a line source with no
@@ -99,8 +114,7 @@ pub struct Outcome {
 pub fn simulate(
     luma: &RowMajor<f32>,
     region: &RowMajor<bool>,
-    lines: &[Vec<(f32, f32)>],
-    masks: &[Option<RowMajor<f32>>],
+    scenery: &Scenery,
     p: &GammatonParams,
     seed: u64,
     progress: &Progress,
@@ -120,7 +134,7 @@ pub fn simulate(
         .collect();
     let wall = (0..w * h).map(|i| region.get(i / h, i % h)).collect();
     let mut world = World::new(w, h, maps, wall, &col(&|x, y| luma.get(x, y)));
-    let emitters = Emitters::new(&world, p, lines, masks, seed)?;
+    let emitters = Emitters::new(&world, p, scenery, seed)?;
     let mut laws = Laws {
         substances: n,
         absorb: [0.0; MAX_SUBSTANCES],
@@ -222,19 +236,16 @@ struct Emitters {
     spots: Vec<Vec<f32>>,
     /// Per source: where its painted mask emits (mask sources).
     painted: Vec<Painted>,
+    /// The ledges that shelter the wall from the sky.
+    overhangs: Vec<Overhang>,
     rows: usize,
     /// Pixels on the grid.
     pixels: usize,
 }
 
 impl Emitters {
-    fn new(
-        world: &World,
-        p: &GammatonParams,
-        ledges: &[Vec<(f32, f32)>],
-        masks: &[Option<RowMajor<f32>>],
-        seed: u64,
-    ) -> Result<Emitters> {
+    fn new(world: &World, p: &GammatonParams, scenery: &Scenery, seed: u64) -> Result<Emitters> {
+        let (ledges, masks) = (&scenery.lines, &scenery.masks);
         let rows = world.rows;
         let wall: Vec<u32> = (0..world.region.len() as u32)
             .filter(|&i| world.region[i as usize])
@@ -312,6 +323,7 @@ impl Emitters {
             lines,
             spots,
             painted,
+            overhangs: scenery.overhangs.clone(),
             rows,
             pixels: world.region.len(),
         })
@@ -334,8 +346,9 @@ impl Emitters {
         let probs = [p.p_straight, p.p_parabolic, p.p_flow];
         let jitter = |r: &mut crate::random::Rng| r.random::<f32>();
         let (pos, vel, motion, left) = match source.kind {
-            // Rain meets the wall anywhere, a painted mask where it is
-            // painted: the first contact is there.
+            // Rain meets the wall anywhere a ledge does not shelter
+            // ([`sky`]), a painted mask where it is painted: the first
+            // contact is there.
             SourceKind::Sky | SourceKind::Mask => {
                 let at = match source.kind {
                     SourceKind::Mask => self.painted[i].draw(&mut r),
@@ -350,12 +363,22 @@ impl Emitters {
                     }
                 };
                 let (x, y) = (at / self.rows, at % self.rows);
-                (
-                    (x as f32 + jitter(&mut r), y as f32 + jitter(&mut r)),
-                    (0.0, 1.0),
-                    Motion::Straight,
-                    0.0,
-                )
+                let mut at = (x as f32 + jitter(&mut r), y as f32 + jitter(&mut r));
+                // A ledge on the rain's way catches it (sky only).
+                if source.kind == SourceKind::Sky
+                    && source.shelter > 0.0
+                    && !self.overhangs.is_empty()
+                {
+                    let spread = (jitter(&mut r) * 2.0 - 1.0) * source.spread;
+                    let angle = (source.direction + spread).clamp(-sky::MAX_ANGLE, sky::MAX_ANGLE);
+                    let reach = -(1.0 - jitter(&mut r)).ln() * source.shelter;
+                    if let Some(ledge) =
+                        sky::intercept(&self.overhangs, at, angle.to_radians(), reach)
+                    {
+                        at = ledge;
+                    }
+                }
+                (at, (0.0, 1.0), Motion::Straight, 0.0)
             }
             // Splash: thrown up from the foot of the wall, most of it not
             // far [choice: heights exponential with mean `hop`, at most 4
@@ -461,6 +484,20 @@ pub fn load_masks(
         .collect()
 }
 
+/// A stamp of the painted masks `p`'s mask sources read (their paths and
+/// contents), so that a kept output goes stale when a mask is repainted
+/// under the same preset ([`crate::pipeline::run_cached`]). A mask that
+/// cannot be read stamps as such (the run then reports it).
+pub fn files_stamp(p: &GammatonParams) -> u64 {
+    use std::hash::{Hash as _, Hasher as _};
+    let mut h = std::hash::DefaultHasher::new();
+    for s in p.sources.iter().filter(|s| s.kind == SourceKind::Mask) {
+        s.mask.hash(&mut h);
+        std::fs::read(&s.mask).ok().hash(&mut h);
+    }
+    h.finish()
+}
+
 /// The point a fraction `t` along the polylines' total length.
 fn point_on(lines: &[Vec<(f32, f32)>], t: f32) -> (f32, f32) {
     let segments = || {
@@ -503,12 +540,28 @@ pub(super) fn stage(
             *q = [x, y];
         }
     }
-    let masks = load_masks(p, grid, ctx.size())?;
+    let per_metre = ctx.grid_px(1.0);
+    let scenery = Scenery {
+        lines: ledges,
+        masks: load_masks(p, grid, ctx.size())?,
+        overhangs: ctx
+            .site
+            .ledges
+            .iter()
+            .map(|l| {
+                let line = l
+                    .polyline
+                    .iter()
+                    .map(|q| grid.to_grid(q[0], q[1]))
+                    .collect();
+                Overhang::new(line, sky::relative_reach(l.kind) * per_metre)
+            })
+            .collect(),
+    };
     let out = simulate(
         ctx.luma,
         ctx.region,
-        &ledges,
-        &masks,
+        &scenery,
         &p_grid,
         preset.seed,
         &progress.span(0.0, 0.9),
@@ -517,6 +570,15 @@ pub(super) fn stage(
     let mut layers = Vec::with_capacity(out.maps.len());
     for (s, map) in p.substances.iter().zip(&out.maps) {
         progress.check()?;
+        // Texture synthesis: the mean over the near wall pixels.
+        let filtered;
+        let map = match s.filter {
+            0 => map,
+            r => {
+                filtered = crate::effects::moss::box_mean(map, ctx.region, r as usize);
+                &filtered
+            }
+        };
         // What the γ-tons gathered beyond the wall's own content.
         let scaled = RowMajor::from_fn(map.width(), map.height(), |x, y| {
             ((map.get(x, y) - s.initial) / s.scale).clamp(0.0, 1.0)

@@ -11,6 +11,7 @@ fn wall(w: usize, h: usize) -> (RowMajor<f32>, RowMajor<bool>) {
 fn substance(name: &str, absorb: f32, deposit: f32, initial: f32) -> Substance {
     Substance {
         name: name.into(),
+        filter: 0,
         absorb,
         deposit,
         initial,
@@ -29,21 +30,10 @@ fn params(consistent: bool) -> GammatonParams {
         consistent,
         sources: vec![
             GammaSource {
-                kind: SourceKind::Sky,
                 share: 2.0,
-                points: Vec::new(),
-                spots: 0,
-                mask: String::new(),
-                carries: vec![1.0, 0.0],
+                ..GammaSource::new(SourceKind::Sky, vec![1.0, 0.0])
             },
-            GammaSource {
-                kind: SourceKind::Ground,
-                share: 1.0,
-                points: Vec::new(),
-                spots: 0,
-                mask: String::new(),
-                carries: vec![0.5, 0.2],
-            },
+            GammaSource::new(SourceKind::Ground, vec![0.5, 0.2]),
         ],
         substances: vec![
             substance("water", 0.3, 0.5, 0.0),
@@ -55,7 +45,7 @@ fn params(consistent: bool) -> GammatonParams {
 
 fn run(p: &GammatonParams) -> Outcome {
     let (luma, region) = wall(200, 120);
-    simulate(&luma, &region, &[], &[], p, 9, &Progress::none()).unwrap()
+    simulate(&luma, &region, &Scenery::default(), p, 9, &Progress::none()).unwrap()
 }
 
 /// initial + emitted = on the wall + lost, per substance (no rules).
@@ -192,25 +182,138 @@ fn settle_only_gammatons_leave_everything_where_they_stop() {
 
 #[test]
 fn same_result_at_one_two_and_three_threads() {
-    let p = params(true);
-    let runs: Vec<Vec<Vec<f32>>> = [1, 2, 3]
-        .into_iter()
-        .map(|n| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .unwrap();
-            pool.install(|| {
-                run(&p)
-                    .maps
-                    .into_iter()
-                    .map(|m| m.data().to_vec())
-                    .collect()
+    // Sky and ground, and slanted rain under a ledge.
+    let mut slanted = params(true);
+    (slanted.sources[0].direction, slanted.sources[0].spread) = (25.0, 15.0);
+    for (p, scenery) in [(params(true), Scenery::default()), (slanted, sill())] {
+        let runs: Vec<Vec<Vec<f32>>> = [1, 2, 3]
+            .into_iter()
+            .map(|n| {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(n)
+                    .build()
+                    .unwrap();
+                pool.install(|| {
+                    run_on(&p, &scenery)
+                        .maps
+                        .into_iter()
+                        .map(|m| m.data().to_vec())
+                        .collect()
+                })
             })
-        })
-        .collect();
-    assert_eq!(runs[0], runs[1]);
-    assert_eq!(runs[0], runs[2]);
+            .collect();
+        assert_eq!(runs[0], runs[1]);
+        assert_eq!(runs[0], runs[2]);
+    }
+}
+
+/// A ledge's drip line at y = 40 from x = 60 to 140 on the 200 x 120 wall,
+/// its shelter reaching 10 px per metre.
+fn sill() -> Scenery {
+    Scenery {
+        overhangs: vec![sky::Overhang::new(vec![(60.0, 40.0), (140.0, 40.0)], 10.0)],
+        ..Scenery::default()
+    }
+}
+
+fn run_on(p: &GammatonParams, scenery: &Scenery) -> Outcome {
+    let (luma, region) = wall(200, 120);
+    simulate(&luma, &region, scenery, p, 9, &Progress::none()).unwrap()
+}
+
+/// Settle-only rain from the sky: each γ-ton leaves its 1 of water where
+/// it first meets the wall.
+fn rain(direction: f32, spread: f32, shelter: f32) -> GammatonParams {
+    let mut p = params(false);
+    (p.p_straight, p.p_parabolic, p.p_flow) = (0.0, 0.0, 0.0);
+    p.radius = 0.0;
+    p.particles = 60_000;
+    p.substances[0].deposit = 1.0;
+    p.substances[1].initial = 0.0;
+    p.sources = vec![GammaSource {
+        direction,
+        spread,
+        shelter,
+        ..GammaSource::new(SourceKind::Sky, vec![1.0, 0.0])
+    }];
+    p
+}
+
+/// Water per pixel in columns `xs`, rows `ys`.
+fn density(out: &Outcome, xs: std::ops::Range<usize>, ys: std::ops::Range<usize>) -> f32 {
+    let n = (xs.len() * ys.len()) as f32;
+    let water = &out.maps[0];
+    xs.flat_map(|x| ys.clone().map(move |y| water.get(x, y)))
+        .sum::<f32>()
+        / n
+}
+
+#[test]
+fn slanted_rain_leaves_the_lee_side_of_a_ledge_dry() {
+    // 60000 drops on 24000 pixels: 2.5 a pixel in the open.
+    for (direction, lee, windward) in [(45.0, 141..150, 60..69), (-45.0, 50..59, 131..140)] {
+        let out = run_on(&rain(direction, 0.0, 3.0), &sill());
+        assert_conserved(&out);
+        assert_eq!(out.stats.left, 0);
+        let (lee, windward) = (density(&out, lee, 50..60), density(&out, windward, 50..60));
+        // Above the ledge nothing shelters the wall.
+        let open = density(&out, 0..200, 0..38);
+        assert!((open - 2.5).abs() < 0.25, "open wall: {open}");
+        assert!(
+            (windward - open).abs() < 0.4,
+            "windward {windward}, open {open}"
+        );
+        assert!(
+            lee < 0.6 * windward,
+            "direction {direction}: lee {lee}, windward {windward}"
+        );
+        // What the ledge caught runs off its drip line.
+        assert!(density(&out, 60..140, 40..41) > 5.0 * open);
+    }
+}
+
+#[test]
+fn a_spread_blurs_the_sides_of_a_ledges_shelter() {
+    // Just beyond the ledge's right end: straight rain reaches it, rain
+    // spread over +-60 degrees partly comes through the ledge.
+    let beside = |spread| density(&run_on(&rain(0.0, spread, 3.0), &sill()), 141..147, 45..55);
+    let (straight, spread) = (beside(0.0), beside(60.0));
+    assert!((straight - 2.5).abs() < 0.5, "straight: {straight}");
+    assert!(
+        spread < 0.85 * straight,
+        "spread {spread}, straight {straight}"
+    );
+    // Right under its middle, rain is sheltered either way.
+    for spread in [0.0, 60.0] {
+        let under = density(&run_on(&rain(0.0, spread, 3.0), &sill()), 95..105, 45..55);
+        assert!(under < 0.5 * 2.5, "spread {spread}: {under}");
+    }
+}
+
+#[test]
+fn without_ledges_or_shelter_the_sky_falls_anywhere() {
+    // Direction and spread act through the ledges only: without them (or
+    // with no shelter) the first contacts are the old uniform ones.
+    let plain = run_on(&rain(0.0, 0.0, 0.0), &Scenery::default()).maps;
+    let slanted = run_on(&rain(30.0, 20.0, 3.0), &Scenery::default()).maps;
+    let unsheltered = run_on(&rain(30.0, 20.0, 0.0), &sill()).maps;
+    assert!(plain == slanted && plain == unsheltered);
+}
+
+#[test]
+fn direction_spread_and_shelter_belong_to_the_sky() {
+    let mut p = rain(30.0, 10.0, 1.0);
+    assert!(p.validate().is_ok());
+    p.sources[0].kind = SourceKind::Ground;
+    let e = p.validate().unwrap_err().to_string();
+    assert!(e.contains("gammaton.sources[0].direction"), "{e}");
+    p.sources[0] = GammaSource::new(SourceKind::Ground, vec![1.0]);
+    assert!(p.validate().is_ok());
+    // Out of range, through the preset's PARAMS rows.
+    let mut preset = Preset::default();
+    preset.gammaton.sources[0].direction = 95.0;
+    let e = preset.validate().unwrap_err().to_string();
+    assert!(e.contains("gammaton.sources.direction"), "{e}");
 }
 
 #[test]
@@ -233,12 +336,8 @@ fn a_line_source_off_the_grid_does_not_panic() {
     p.p_straight = 0.0;
     p.p_parabolic = 0.0;
     p.sources = vec![GammaSource {
-        kind: SourceKind::Line,
-        share: 1.0,
         points: vec![[20.0, -40.0], [180.0, -30.0], [150.0, 400.0]],
-        spots: 0,
-        mask: String::new(),
-        carries: vec![1.0],
+        ..GammaSource::new(SourceKind::Line, vec![1.0])
     }];
     let out = run(&p);
     assert_eq!(out.stats.emitted, 3000);
@@ -247,12 +346,8 @@ fn a_line_source_off_the_grid_does_not_panic() {
 
 fn mask_source() -> GammaSource {
     GammaSource {
-        kind: SourceKind::Mask,
-        share: 1.0,
-        points: Vec::new(),
-        spots: 0,
         mask: "painted.png".into(),
-        carries: vec![1.0, 0.0],
+        ..GammaSource::new(SourceKind::Mask, vec![1.0, 0.0])
     }
 }
 
@@ -272,7 +367,11 @@ fn a_painted_mask_emits_only_where_it_is_white() {
         (100..110, 30..40) => 0.5,
         _ => 0.0,
     });
-    let out = simulate(&luma, &region, &[], &[Some(mask)], &p, 9, &Progress::none()).unwrap();
+    let scenery = Scenery {
+        masks: vec![Some(mask)],
+        ..Scenery::default()
+    };
+    let out = simulate(&luma, &region, &scenery, &p, 9, &Progress::none()).unwrap();
     let water = &out.maps[0];
     let sum = |x0: usize, x1: usize| -> f32 {
         (x0..x1)
@@ -337,15 +436,90 @@ fn a_mask_source_needs_its_mask_the_photos_size() {
     assert_eq!((m.get(9, 7), m.get(10, 7)), (1.0, 0.0));
     // A mask source with nothing white on the wall is refused.
     let (luma, region) = wall(20, 15);
-    let blank = RowMajor::filled(20, 15, 0.0);
-    let e = simulate(
-        &luma,
-        &region,
-        &[],
-        &[Some(blank)],
-        &p,
-        1,
-        &Progress::none(),
-    );
+    let scenery = Scenery {
+        masks: vec![Some(RowMajor::filled(20, 15, 0.0))],
+        ..Scenery::default()
+    };
+    let e = simulate(&luma, &region, &scenery, &p, 1, &Progress::none());
     assert!(matches!(e, Err(Error::Preset(m)) if m.contains("paints no wall pixel")));
+}
+
+#[test]
+fn a_cached_run_sees_a_repainted_mask() {
+    use crate::pipeline::{Cache, Scene, run, run_cached};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("painted.png");
+    let paint = |left: bool| {
+        image::GrayImage::from_fn(40, 30, |x, _| {
+            image::Luma([255 * u8::from((x < 20) == left)])
+        })
+        .save(&path)
+        .unwrap()
+    };
+    let photo = image::RgbImage::from_pixel(40, 30, image::Rgb([150, 140, 130]));
+    let scene = Scene::new(crate::photo::Photo::new(photo.into()), None).unwrap();
+    let mut preset = Preset::default();
+    preset.gammaton.enabled = true;
+    preset.gammaton.particles = 2000;
+    preset.gammaton.sources = vec![GammaSource {
+        mask: path.to_string_lossy().into_owned(),
+        ..GammaSource::new(SourceKind::Mask, vec![1.0])
+    }];
+    let gamma = |out: crate::pipeline::Outcome| -> Vec<u8> {
+        let layer = out.stack.layers.into_iter();
+        match layer.last().map(|l| (l.kind, l.pixels)) {
+            Some((Some(Effect::Gammaton), LayerPixels::Rgba(img))) => img.into_raw(),
+            _ => panic!("the γ-ton layer comes last"),
+        }
+    };
+    let none = Progress::none();
+    let mut cache = Cache::default();
+    paint(true);
+    let left = gamma(run_cached(&scene, &preset, &none, &mut cache).unwrap());
+    // The same preset, the mask repainted (as in the GUI): the γ-tons run again.
+    paint(false);
+    let right = gamma(run_cached(&scene, &preset, &none, &mut cache).unwrap());
+    assert!(
+        left != right,
+        "the kept γ-tons were shown for a repainted mask"
+    );
+    assert!(right == gamma(run(&scene, &preset, &none).unwrap()));
+    // Unchanged, the kept output is used (and equals a fresh run).
+    assert!(right == gamma(run_cached(&scene, &preset, &none, &mut cache).unwrap()));
+}
+
+#[test]
+fn the_filter_spreads_a_substance_over_the_near_wall() {
+    use crate::pipeline::{Scene, run};
+    // Settle-only γ-tons from one painted pixel: all the dirt sits there;
+    // a filter of 2 shows it as the mean over a 5 x 5 window.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("dot.png");
+    image::GrayImage::from_fn(40, 30, |x, y| {
+        image::Luma([255 * u8::from((x, y) == (20, 15))])
+    })
+    .save(&path)
+    .unwrap();
+    let photo = image::RgbImage::from_pixel(40, 30, image::Rgb([150, 140, 130]));
+    let scene = Scene::new(crate::photo::Photo::new(photo.into()), None).unwrap();
+    let mut preset = Preset::default();
+    let g = &mut preset.gammaton;
+    g.enabled = true;
+    g.particles = 500;
+    (g.p_straight, g.p_parabolic, g.p_flow, g.radius) = (0.0, 0.0, 0.0, 0.0);
+    g.substances[0].scale = 1e-3;
+    g.sources = vec![GammaSource {
+        mask: path.to_string_lossy().into_owned(),
+        ..GammaSource::new(SourceKind::Mask, vec![1.0])
+    }];
+    let covered = |preset: &Preset| -> usize {
+        let out = run(&scene, preset, &Progress::none()).unwrap();
+        match &out.stack.layers.last().unwrap().pixels {
+            LayerPixels::Rgba(img) => img.pixels().filter(|p| p[3] > 0).count(),
+            _ => panic!("an RGBA layer"),
+        }
+    };
+    assert_eq!(covered(&preset), 1);
+    preset.gammaton.substances[0].filter = 2;
+    assert_eq!(covered(&preset), 25);
 }
