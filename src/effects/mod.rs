@@ -154,6 +154,8 @@ impl Effect {
                 "stains",
                 "mould",
                 "rust",
+                "smudges",
+                "corrosion",
             ],
             Effect::Weathering => &[
                 "seed",

@@ -182,7 +182,7 @@ pub fn musgrave(ctx: &Context, p: &GeneratorParams, seed: u64) -> RowMajor<f32> 
 }
 
 /// The photo box-blurred with radius `r` (the local mean Roughy fades to).
-fn smoothed(photo: &image::RgbImage, r: usize) -> image::RgbImage {
+pub(crate) fn smoothed(photo: &image::RgbImage, r: usize) -> image::RgbImage {
     let (w, h) = (photo.width() as usize, photo.height() as usize);
     let channels: Vec<RowMajor<f32>> = (0..3)
         .into_par_iter()
