@@ -55,8 +55,8 @@ impl Default for SmudgeParams {
             roughness: 0.5,
             stretch: 2.0,
             blur: 0.01,
-            darken: 0.35,
-            color: [52, 46, 40],
+            darken: 0.45,
+            color: [45, 40, 35],
             opacity: 0.85,
         }
     }
@@ -90,7 +90,7 @@ pub struct CorrosionParams {
     pub pit_size: f32,
     /// Alpha of the discolouration at full weight.
     pub discolour: f32,
-    /// Colour of the decayed surface, sRGB (pits are darker).
+    /// Colour multiplied into the decayed surface, sRGB (pits are darker).
     pub color: [u8; 3],
     /// Layer opacity.
     pub opacity: f32,
@@ -108,9 +108,9 @@ impl Default for CorrosionParams {
             size: 0.8,
             roughness: 0.6,
             pits: 0.35,
-            pit_size: 0.006,
-            discolour: 0.55,
-            color: [128, 112, 88],
+            pit_size: 0.01,
+            discolour: 0.8,
+            color: [180, 160, 132],
             opacity: 0.9,
         }
     }

@@ -6,10 +6,11 @@
 //! their edge instead of starting with a hard boundary.
 //!
 //! - Smudges (hands, splash-back at the foot of a wall): the wall blurred
-//!   and pulled toward a grease colour, with alpha `w`.
-//! - Corrosion (stone decay, corroded metal): a discolouration of alpha
-//!   `discolour x w`, and pits where a fine noise's rank exceeds
-//!   `1 - pits x w`, so pitting is densest where the fBm is strongest.
+//!   and pulled toward a grease colour, with alpha [`ease`]`(w)`.
+//! - Corrosion (stone decay, corroded metal): a discolouration multiplied
+//!   into the wall with alpha `discolour x ease(w)`, and darker pits where a
+//!   fine noise's rank exceeds `1 - pits x w`, so pitting is densest where
+//!   the fBm is strongest.
 
 use image::{GrayImage, RgbaImage};
 use rayon::prelude::*;
@@ -20,6 +21,13 @@ use super::{Gen, alpha_byte, threshold};
 use crate::effects::Context;
 use crate::preset::{CorrosionParams, SmudgeParams};
 use crate::random::{Noise, key};
+
+/// The alpha of weight `w`: `1 - (1 - w)^2`, rising from 0 at the
+/// threshold like `2w` (a soft edge) and flat at the top ([choice]: the
+/// paper's direct interpolation, eased so most of a smudge is seen).
+pub fn ease(w: f32) -> f32 {
+    1.0 - (1.0 - w).powi(2)
+}
 
 /// The fBm weight of a generator: 0 outside its coverage, rising from just
 /// above 0 at the threshold to 1 at the field's top.
@@ -99,7 +107,7 @@ pub fn smudges(
         let px = std::array::from_fn(|k| {
             (c[k] as f32 + (p.color[k] as f32 - c[k] as f32) * p.darken).round() as u8
         });
-        (px, v)
+        (px, ease(v))
     });
     let alpha = alpha_of(&img);
     (img, alpha)
@@ -125,6 +133,9 @@ fn layer(
     });
     img
 }
+
+/// Alpha of a pit.
+pub const PIT_ALPHA: f32 = 0.75;
 
 /// Which covered pixels of `weight` are pits: a noise `pit_size` across,
 /// ranked over the covered pixels, above `1 - pits x w`.
@@ -159,7 +170,8 @@ pub fn pits(ctx: &Context, p: &CorrosionParams, weight: &[f32], w: usize, seed: 
         .collect()
 }
 
-/// The corrosion's layer (normal blend) and its alpha.
+/// The corrosion's layer (multiplied into the wall, so the wall's own
+/// texture stays) and its alpha.
 pub fn corrosion(
     ctx: &Context,
     p: &CorrosionParams,
