@@ -55,8 +55,8 @@ impl Default for SmudgeParams {
             roughness: 0.5,
             stretch: 2.0,
             blur: 0.01,
-            darken: 0.45,
-            color: [45, 40, 35],
+            darken: 0.5,
+            color: [58, 46, 34],
             opacity: 0.85,
         }
     }
@@ -108,9 +108,9 @@ impl Default for CorrosionParams {
             size: 0.8,
             roughness: 0.6,
             pits: 0.35,
-            pit_size: 0.01,
+            pit_size: 0.02,
             discolour: 0.8,
-            color: [180, 160, 132],
+            color: [172, 160, 142],
             opacity: 0.9,
         }
     }

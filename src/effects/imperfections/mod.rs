@@ -243,7 +243,7 @@ pub(super) fn stage(
         push(Made {
             layers: vec![layer(
                 "corrosion",
-                BlendMode::Normal,
+                BlendMode::Multiply,
                 p.opacity,
                 LayerPixels::Rgba(img),
             )],

@@ -6,11 +6,14 @@
 //! their edge instead of starting with a hard boundary.
 //!
 //! - Smudges (hands, splash-back at the foot of a wall): the wall blurred
-//!   and pulled toward a grease colour, with alpha [`ease`]`(w)`.
+//!   and pulled toward a grease colour, with alpha `w` (the paper's direct
+//!   interpolation); how far toward the grease is mottled by a finer
+//!   fractal, so a smudge is not one flat grey.
 //! - Corrosion (stone decay, corroded metal): a discolouration multiplied
-//!   into the wall with alpha `discolour x ease(w)`, and darker pits where a
+//!   into the wall with alpha `discolour x w`, and darker pits where a
 //!   fine noise's rank exceeds `1 - pits x w`, so pitting is densest where
-//!   the fBm is strongest.
+//!   the fBm is strongest. A pit smaller than a pixel only darkens it by
+//!   its share of the pixel (no black pepper on a small photo).
 
 use image::{GrayImage, RgbaImage};
 use rayon::prelude::*;
@@ -19,18 +22,17 @@ use super::fractal::Fractal;
 use super::placement::Placed;
 use super::{Gen, alpha_byte, threshold};
 use crate::effects::Context;
+use crate::effects::percentile::{Rank, percentile};
 use crate::preset::{CorrosionParams, SmudgeParams};
 use crate::random::{Noise, key};
 
-/// The alpha of weight `w`: `1 - (1 - w)^2`, rising from 0 at the
-/// threshold like `2w` (a soft edge) and flat at the top ([choice]: the
-/// paper's direct interpolation, eased so most of a smudge is seen).
-pub fn ease(w: f32) -> f32 {
-    1.0 - (1.0 - w).powi(2)
-}
+/// Quantile of the covered field's heights above the threshold that has
+/// full weight.
+pub const FULL: f32 = 0.9;
 
 /// The fBm weight of a generator: 0 outside its coverage, rising from just
-/// above 0 at the threshold to 1 at the field's top.
+/// above 0 at the threshold to 1 at the [`FULL`] quantile of the covered
+/// heights.
 pub struct Weight {
     /// The field (fractal x placement weight), per pixel.
     pub field: Vec<f32>,
@@ -56,8 +58,16 @@ pub fn weight(f: &Fractal, placed: &Placed, coverage: f32, stretch: f32) -> Weig
         })
         .collect();
     let t = threshold(&field, placed, coverage);
-    let top = field.iter().copied().fold(0.0f32, f32::max);
-    let span = (top - t).max(1e-6);
+    // Full weight from the covered heights' FULL quantile up (the top alone
+    // would leave most of a smudge faint).
+    let heights = field
+        .iter()
+        .zip(&placed.weight)
+        .filter(|(g, wt)| **g > t && **wt > 0.0)
+        .map(|(g, _)| g - t);
+    let span = percentile(heights, FULL, Rank::Nearest)
+        .unwrap_or(1.0)
+        .max(1e-6);
     let weight = field
         .par_iter()
         .zip(&placed.weight)
@@ -102,12 +112,22 @@ pub fn smudges(
     } else {
         crate::effects::weathering::smoothed(&photo, r)
     };
+    let mottle = Fractal::new(
+        seed,
+        Gen::Smudges.stream(1),
+        w,
+        h,
+        ctx.photo_px(p.size * 0.15).max(2.0),
+        0.6,
+    );
     let img = layer(w, h, &wt.weight, |i, v| {
-        let c = blurred.get_pixel((i % w) as u32, (i / w) as u32).0;
-        let px = std::array::from_fn(|k| {
-            (c[k] as f32 + (p.color[k] as f32 - c[k] as f32) * p.darken).round() as u8
+        let (x, y) = (i % w, i / w);
+        let c = blurred.get_pixel(x as u32, y as u32).0;
+        let k = p.darken * (0.5 + mottle.at(x as f32, y as f32));
+        let px = std::array::from_fn(|j| {
+            (c[j] as f32 + (p.color[j] as f32 - c[j] as f32) * k.min(1.0)).round() as u8
         });
-        (px, ease(v))
+        (px, v)
     });
     let alpha = alpha_of(&img);
     (img, alpha)
@@ -134,8 +154,17 @@ fn layer(
     img
 }
 
-/// Alpha of a pit.
-pub const PIT_ALPHA: f32 = 0.75;
+/// Alpha of a pit at least [`PIT_PX`] pixels across.
+pub const PIT_ALPHA: f32 = 0.7;
+
+/// Pits this many pixels across or more are drawn at full alpha; smaller
+/// ones darken their pixel by their share of it.
+pub const PIT_PX: f32 = 2.0;
+
+/// The alpha of a pit `px` pixels across.
+pub fn pit_alpha(px: f32) -> f32 {
+    PIT_ALPHA * (px / PIT_PX).clamp(0.0, 1.0).powi(2)
+}
 
 /// Which covered pixels of `weight` are pits: a noise `pit_size` across,
 /// ranked over the covered pixels, above `1 - pits x w`.
@@ -189,13 +218,18 @@ pub fn corrosion(
     );
     let wt = weight(&f, placed, p.coverage, 1.0);
     let pitted = pits(ctx, p, &wt.weight, w, seed);
-    let pit = p.color.map(|c| (c as f32 * 0.4) as u8);
-    let mut img = layer(w, h, &wt.weight, |_, v| (p.color, p.discolour * v));
-    for (i, px) in img.pixels_mut().enumerate() {
+    // A pit: the colour darkened by the pit's share of its pixel.
+    let pit_a = pit_alpha(ctx.photo_px(p.pit_size));
+    let dark = 1.0 - 0.45 * pit_a / PIT_ALPHA;
+    let pit = p.color.map(|c| (c as f32 * dark) as u8);
+    let img = layer(w, h, &wt.weight, |i, v| {
+        let a = p.discolour * v;
         if pitted[i] {
-            *px = image::Rgba([pit[0], pit[1], pit[2], alpha_byte(0.85)]);
+            (pit, a.max(pit_a))
+        } else {
+            (p.color, a)
         }
-    }
+    });
     let alpha = alpha_of(&img);
     (img, alpha)
 }

@@ -345,7 +345,10 @@ fn corrosion_pits_densest_where_its_fbm_weight_is_strongest() {
         let pitted = smudges::pits(ctx, &p, &wt.weight, 320, 9);
         // Pits are only inside the corrosion, and in the layer.
         for (i, px) in img.pixels().enumerate() {
-            assert!(!pitted[i] || (wt.weight[i] > 0.0 && px[3] == alpha_byte(smudges::PIT_ALPHA)));
+            let a = alpha_byte(
+                smudges::pit_alpha(ctx.photo_px(p.pit_size)).max(p.discolour * wt.weight[i]),
+            );
+            assert!(!pitted[i] || (wt.weight[i] > 0.0 && px[3] == a));
         }
         let share = |lo: f32, hi: f32| {
             let inside: Vec<usize> = (0..wt.weight.len())
