@@ -134,10 +134,10 @@ impl Default for ScratchParams {
             width: 0.005,
             angle: 20.0,
             angle_spread: 12.0,
-            intensity: 0.8,
+            intensity: 0.6,
             intensity_spread: 0.15,
             color: [225, 220, 210],
-            opacity: 0.9,
+            opacity: 0.85,
         }
     }
 }
