@@ -6,7 +6,7 @@ use super::params::ParamSpec;
 /// Every numeric parameter. Validation, `grime preset default` comments and
 /// the GUI's sliders all read this table. Entries with `min == max` document
 /// a switch, a name or a list (never range-checked).
-pub const PARAMS: &[ParamSpec] = &ALL;
+pub static PARAMS: &[ParamSpec] = &ALL;
 
 /// The tables of the preset's modules, in section order.
 const PARTS: &[&[ParamSpec]] = &[
@@ -28,7 +28,7 @@ const PARTS: &[&[ParamSpec]] = &[
     super::weathering::ROWS[4],
 ];
 
-const ALL: [ParamSpec; rows(PARTS)] = join(PARTS);
+static ALL: [ParamSpec; rows(PARTS)] = join(PARTS);
 
 const fn rows(parts: &[&[ParamSpec]]) -> usize {
     let (mut i, mut n) = (0, 0);
