@@ -51,6 +51,11 @@ def crop(img, box, name, zoom=2):
     c.save(os.path.join(OUT, name + ".jpg"), quality=90)
 
 
+def small_png(img, name):
+    """Saves a docs PNG under 200 KB: 256 colours, median cut."""
+    img.quantize(256, method=Image.Quantize.MEDIANCUT).save(os.path.join(OUT, name), optimize=True)
+
+
 def main():
     os.makedirs(OUT, exist_ok=True)
     none = ["--set", "rain.layers=0", "--set", "moss.enabled=false", "--set", "dust.enabled=false"]
@@ -68,12 +73,13 @@ def main():
                     continue  # a close-up has no ledges to hang fixings on
                 styled = run(tmp, f"{demo}-{preset}", demo, "--preset", preset)
                 pair(after, styled, f"gammaton-{preset}-{demo}", stacked=(demo == "facade"))
-        for effect in ["scratches", "splotches", "stains", "mould", "rust", "spotty", "roughy", "fade", "desaturate"]:
+        for effect in ["scratches", "splotches", "stains", "mould", "rust", "smudges", "corrosion",
+                       "spotty", "roughy", "fade", "desaturate"]:
             img = run(tmp, effect, "facade", *none, "--set", f"{effect}.enabled=true")
-            img.crop((0, 360, 480, 720)).save(os.path.join(OUT, f"say-{effect}.png"))
+            small_png(img.crop((0, 360, 480, 720)), f"say-{effect}.png")
         sentence = "very rusty near the railings, slightly scratched, moderately mossy, stained below the sills"
         img = run(tmp, "sentence", "facade", "--say", sentence)
-        img.resize((480, 360), Image.LANCZOS).save(os.path.join(OUT, "say-sentence.png"))
+        small_png(img.resize((480, 360), Image.LANCZOS), "say-sentence.png")
     print("gallery images written to", OUT)
 
 

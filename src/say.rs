@@ -52,6 +52,12 @@ const EFFECTS: &[(&str, Target)] = &[
     ("mouldy", Target::Imperfection("mould")),
     ("moldy", Target::Imperfection("mould")),
     ("rusty", Target::Imperfection("rust")),
+    ("smudged", Target::Imperfection("smudges")),
+    ("smudgy", Target::Imperfection("smudges")),
+    ("greasy", Target::Imperfection("smudges")),
+    ("corroded", Target::Imperfection("corrosion")),
+    ("pitted", Target::Imperfection("corrosion")),
+    ("decayed", Target::Imperfection("corrosion")),
     ("spotted", Target::Generator("spotty")),
     ("spotty", Target::Generator("spotty")),
     ("weathered", Target::Generator("roughy")),
@@ -292,6 +298,21 @@ mod tests {
         assert!(assignments("very near the ground").is_err());
         let said = parse("moderately mossy near the ground").unwrap();
         assert_eq!(said.notes.len(), 1, "{said:?}");
+    }
+
+    #[test]
+    fn smudged_and_corroded_set_their_generators() {
+        let mut p = Preset::default();
+        apply(
+            &mut p,
+            "slightly smudged near the ground and extremely corroded at the edges",
+        )
+        .unwrap();
+        assert!(p.smudges.enabled && p.corrosion.enabled);
+        assert_eq!((p.smudges.coverage, p.corrosion.coverage), (0.05, 0.75));
+        assert_eq!(p.corrosion.placement, crate::preset::Placement::Edges);
+        let e = assignments("very crusty").unwrap_err().to_string();
+        assert!(e.contains("smudged") && e.contains("corroded"), "{e}");
     }
 
     #[test]

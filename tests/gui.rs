@@ -654,3 +654,66 @@ fn auto_region_and_detect_ledges_come_from_the_scene_analysis() {
     assert!(h.state().document().unwrap().lines.is_empty());
     settle(&mut h);
 }
+
+#[test]
+fn choices_points_and_lists_are_set_from_the_generic_panel() {
+    use grime::preset::Placement;
+    let mut h = facade_with(quick_preset());
+    let preset = |h: &Harness<'static, GrimeApp>| h.state().document().unwrap().preset.clone();
+    // A section no GUI code names: its word fields get a choice box from
+    // the PARAMS table.
+    h.get_by_label("Smudges").click_accesskit();
+    h.run_steps(2);
+    h.get_by_role_and_label(Role::ComboBox, "placement")
+        .click_accesskit();
+    h.run_steps(2);
+    h.get_by_label("edges").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(preset(&h).smudges.placement, Placement::Edges);
+    assert!(!preset(&h).smudges.enabled, "only the placement changed");
+    // The moss's colour and the dust's environment are choices too.
+    h.get_by_role_and_label(Role::ComboBox, "color")
+        .click_accesskit();
+    h.run_steps(2);
+    h.get_by_label("orange").click_accesskit();
+    h.run_steps(2);
+    assert_eq!(preset(&h).moss.color, grime::preset::MossColor::Orange);
+    h.get_by_role_and_label(Role::ComboBox, "environment");
+    // A point: one box per coordinate.
+    let xs = h.get_all_by_role_and_label(Role::SpinButton, "around");
+    assert_eq!(xs.count(), 2);
+    h.get_all_by_role_and_label(Role::SpinButton, "around")
+        .next()
+        .unwrap()
+        .set_value_accesskit(120.0);
+    h.run_steps(2);
+    assert_eq!(preset(&h).smudges.around, [120.0, 0.0]);
+    // A polygon as TOML text, set on Enter; a wrong one is refused with
+    // the preset's message and changes nothing.
+    let area = || "[[0, 0], [200, 0], [200, 100]]";
+    h.get_by_role_and_label(Role::TextInput, "area").focus();
+    h.step();
+    h.get_by_role_and_label(Role::TextInput, "area")
+        .set_text_value_accesskit(area());
+    h.step();
+    h.key_press(Key::Enter);
+    h.run_steps(2);
+    assert_eq!(preset(&h).smudges.area.len(), 3);
+    h.get_by_role_and_label(Role::TextInput, "area").focus();
+    h.step();
+    h.get_by_role_and_label(Role::TextInput, "area")
+        .set_text_value_accesskit("[[0, 0], oops");
+    h.step();
+    h.key_press(Key::Enter);
+    h.run_steps(2);
+    assert_eq!(preset(&h).smudges.area.len(), 3);
+    assert!(
+        error_message(&h).contains("smudges.area"),
+        "{}",
+        error_message(&h)
+    );
+    // Each is one undo step.
+    click(&mut h, "Undo");
+    assert!(preset(&h).smudges.area.is_empty());
+    settle(&mut h);
+}

@@ -145,6 +145,8 @@ fn preset_default_documents_the_new_sections() {
         "[stains]",
         "[mould]",
         "[rust]",
+        "[smudges]",
+        "[corrosion]",
         "[climate]",
         "[spotty]",
         "[roughy]",
@@ -157,7 +159,41 @@ fn preset_default_documents_the_new_sections() {
         "Fraction of the placement area covered",
         "Sun azimuth",
         "eq. 3.12",
+        "Share of a full-weight pixel that is pitted",
+        "greasy blur",
     ] {
         assert!(text.contains(doc), "{doc} missing");
+    }
+}
+
+#[test]
+fn smudged_and_corroded_cover_what_they_say_where_they_say() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, rep) = (dir.path().join("a.png"), dir.path().join("r.json"));
+    let o = grime(&[
+        "run",
+        "--demo",
+        "-o",
+        s(&out),
+        "--layers",
+        "1",
+        "--say",
+        "somewhat smudged near the ground, very corroded at the edges",
+        "--report",
+        s(&rep),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let r = report(&rep);
+    for (name, want, place) in [("smudges", 0.2, "ground"), ("corrosion", 0.55, "edges")] {
+        let (target, got) = coverage(&r, name);
+        assert_eq!(target as f32, want as f32);
+        assert!((got - want).abs() <= 0.02, "{name}: {got}");
+        let g = r["imperfections"]["generators"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|g| g["name"] == name)
+            .unwrap();
+        assert_eq!(g["placement"], place);
     }
 }

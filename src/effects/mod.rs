@@ -155,6 +155,8 @@ impl Effect {
                 "stains",
                 "mould",
                 "rust",
+                "smudges",
+                "corrosion",
             ],
             Effect::Weathering => &[
                 "seed",

@@ -27,6 +27,7 @@ pub mod canvas;
 pub mod command;
 pub mod controller;
 pub mod exporter;
+pub mod fields;
 pub mod files;
 pub mod history;
 pub mod menu;

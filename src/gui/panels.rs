@@ -1,7 +1,9 @@
 //! The right-hand panels: time, layers, and one section of sliders per
 //! effect. The sliders are built from the preset itself and the
 //! [`PARAMS`](crate::preset::PARAMS) table (range, meaning, paper symbol), so
-//! a parameter added to the preset shows up here without GUI code.
+//! a parameter added to the preset shows up here without GUI code: numbers
+//! as sliders, switches as check boxes, and the rest through [`fields`]
+//! (colours, choices, points, TOML text).
 
 use eframe::egui;
 
@@ -11,6 +13,7 @@ use crate::preset::{self, ParamSpec, Preset};
 
 use super::command::{Command, PromptKind};
 use super::controller::Controller;
+use super::fields;
 use super::state::LayerSetting;
 
 /// The side panel: a welcome without a document; else time, layers and
@@ -128,6 +131,10 @@ fn title(section: &str) -> String {
 
 fn lookup<'a>(v: &'a toml::Value, path: &str) -> Option<&'a toml::Value> {
     path.split('.').try_fold(v, |v, k| v.get(k))
+}
+
+fn is_number(v: &toml::Value) -> bool {
+    number(v).is_some()
 }
 
 fn number(v: &toml::Value) -> Option<(f64, bool)> {
@@ -315,37 +322,20 @@ pub fn parameters(ui: &mut Ui, preset: &Preset, out: &mut Vec<Command>) {
                             }
                         }
                         toml::Value::Array(a) if a.len() == 3 && key.contains("color") => {
-                            let mut rgb = [0u8; 3];
-                            for (c, x) in rgb.iter_mut().zip(a) {
-                                *c = x.as_integer().unwrap_or(0).clamp(0, 255) as u8;
-                            }
-                            ui.horizontal(|ui| {
-                                let doc = preset::param(&path).map_or(path.clone(), |s| {
-                                    format!("{}\nPreset field: {path}", s.doc)
-                                });
-                                let r = ui.color_edit_button_srgb(&mut rgb).on_hover_text(doc);
-                                ui.label(key);
-                                if r.changed() {
-                                    out.push(Command::SetParam {
-                                        path: path.clone(),
-                                        value: format!("[{}, {}, {}]", rgb[0], rgb[1], rgb[2]),
-                                        merge: true,
-                                    });
-                                }
-                                if let Some(d) = default
-                                    && reset_button(ui, d != v, &format!("Reset {path}"))
-                                        .on_hover_text(format!("Reset {path} to its default"))
-                                        .clicked()
-                                {
-                                    out.push(Command::SetParam {
-                                        path: path.clone(),
-                                        value: d.to_string(),
-                                        merge: false,
-                                    });
-                                }
-                            });
+                            fields::colour(ui, key, &path, a, default, out);
                         }
-                        _ => {}
+                        toml::Value::String(s) => match preset::param(&path) {
+                            Some(spec) if !spec.choices.is_empty() => {
+                                fields::choice(ui, key, spec, s, default, out);
+                            }
+                            _ => fields::text(ui, key, &path, v, default, out),
+                        },
+                        toml::Value::Array(a)
+                            if !a.is_empty() && a.len() <= 4 && a.iter().all(is_number) =>
+                        {
+                            fields::numbers(ui, key, &path, a, default, out);
+                        }
+                        other => fields::text(ui, key, &path, other, default, out),
                     }
                 }
             });
@@ -466,7 +456,7 @@ pub fn layers(ui: &mut Ui, rows: &[LayerRow], out: &mut Vec<Command>) {
 
 /// A small "reset" button: a circular arrow, named `name` for screen
 /// readers and tests.
-fn reset_button(ui: &mut Ui, enabled: bool, name: &str) -> Response {
+pub(super) fn reset_button(ui: &mut Ui, enabled: bool, name: &str) -> Response {
     let sense = if enabled {
         Sense::click()
     } else {

@@ -81,6 +81,7 @@ imperfection!(ScratchParams);
 imperfection!(BlotchParams);
 imperfection!(MouldParams);
 imperfection!(RustParams);
+pub(super) use imperfection;
 
 /// Scratches: straight lines, Gaussian in length, orientation and intensity.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -133,10 +134,10 @@ impl Default for ScratchParams {
             width: 0.005,
             angle: 20.0,
             angle_spread: 12.0,
-            intensity: 0.8,
+            intensity: 0.6,
             intensity_spread: 0.15,
             color: [225, 220, 210],
-            opacity: 0.9,
+            opacity: 0.85,
         }
     }
 }
@@ -343,7 +344,8 @@ macro_rules! common_rows {
                 "Where: \"everywhere\", \"edges\", \"top\", \"bottom\", \"ground\", \"sills\" (below them), \"railings\" (balconies, else sills), \"point\" (around), \"area\" (polygon)",
                 0.0,
                 0.0,
-            ),
+            )
+            .choices(PLACEMENTS),
             p(
                 concat!($s, ".band"),
                 "",
@@ -370,6 +372,21 @@ macro_rules! common_rows {
         ]
     };
 }
+
+pub(super) use common_rows;
+
+/// The placement rules, as the preset spells them (the GUI's choices).
+pub(super) const PLACEMENTS: &[&str] = &[
+    "everywhere",
+    "edges",
+    "top",
+    "bottom",
+    "ground",
+    "sills",
+    "railings",
+    "point",
+    "area",
+];
 
 const SCRATCH: [ParamSpec; 8] = common_rows!("scratches", "scratches");
 const SPLOTCH: [ParamSpec; 8] = common_rows!("splotches", "splotches of mud or tar");

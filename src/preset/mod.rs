@@ -14,6 +14,7 @@ mod imperfections;
 mod params;
 mod params_dust;
 mod sections;
+mod smudges;
 mod table;
 mod toml_text;
 mod weathering;
@@ -28,6 +29,7 @@ pub use imperfections::{
     BlotchParams, Imperfection, MouldParams, Place, Placement, RustParams, ScratchParams,
 };
 pub use params::{ParamSpec, param};
+pub use smudges::{CorrosionParams, SmudgeParams};
 pub use table::PARAMS;
 pub use weathering::{ClimateParams, GeneratorParams};
 
@@ -74,6 +76,10 @@ pub struct Preset {
     pub mould: MouldParams,
     /// Rust (Becket & Badler).
     pub rust: RustParams,
+    /// Smudges (Becket & Badler: fBm as a weight).
+    pub smudges: SmudgeParams,
+    /// Corrosion (Becket & Badler: fBm as a weight).
+    pub corrosion: CorrosionParams,
     /// Sun and humidity (Riihiaho eqs. 3.5-3.8).
     pub climate: ClimateParams,
     /// Spotty (Riihiaho eq. 3.12).
@@ -107,6 +113,8 @@ impl Default for Preset {
             stains: BlotchParams::stains(),
             mould: MouldParams::default(),
             rust: RustParams::default(),
+            smudges: SmudgeParams::default(),
+            corrosion: CorrosionParams::default(),
             climate: ClimateParams::default(),
             spotty: GeneratorParams::spotty(),
             roughy: GeneratorParams::roughy(),

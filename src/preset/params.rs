@@ -13,6 +13,16 @@ pub struct ParamSpec {
     pub min: f64,
     /// Largest allowed value.
     pub max: f64,
+    /// The words a string field takes (the GUI's choice box); empty for
+    /// numbers, switches and free text.
+    pub choices: &'static [&'static str],
+}
+
+impl ParamSpec {
+    /// The same row for a field that takes one of `choices`.
+    pub(super) const fn choices(self, choices: &'static [&'static str]) -> ParamSpec {
+        ParamSpec { choices, ..self }
+    }
 }
 
 pub(super) const fn p(
@@ -28,6 +38,7 @@ pub(super) const fn p(
         doc,
         min,
         max,
+        choices: &[],
     }
 }
 
@@ -362,7 +373,8 @@ pub(super) const CORE: &[ParamSpec] = &[
         "Colony colour: \"orange\" RGB(180,130,0) or \"yellow-green\" RGB(140,130,80), Chang's two Caloplaca colours",
         0.0,
         0.0,
-    ),
+    )
+    .choices(&["orange", "yellow-green"]),
     p(
         "moss.gamma",
         "gamma",

@@ -25,7 +25,8 @@ pub(super) const DUST_AND_GAMMATON: &[ParamSpec] = &[
         "Accumulation rates measured by Santos: \"low-activity\", \"high-activity\", \"steep-start\", \"desktop\", or \"custom\" to use film_segments and mask_segments",
         0.0,
         0.0,
-    ),
+    )
+    .choices(&["low-activity", "high-activity", "steep-start", "desktop", "custom"]),
     p(
         "dust.film_segments",
         "",

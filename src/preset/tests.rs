@@ -150,3 +150,33 @@ fn a_dumped_preset_leaves_the_clock_free_and_reads_back_the_same() {
     assert!(pins.pins("dust.days") && !pins.pins("rain.layers"));
     assert_eq!(crate::clock::load(&text).unwrap(), p);
 }
+
+#[test]
+fn every_word_field_lists_its_choices_and_each_one_sets() {
+    let value = toml::Value::try_from(Preset::default()).unwrap();
+    let Some(root) = value.as_table() else {
+        panic!("a preset is a table")
+    };
+    for (section, table) in root.iter().filter_map(|(k, v)| Some((k, v.as_table()?))) {
+        for (key, v) in table {
+            let path = format!("{section}.{key}");
+            let Some(word) = v.as_str() else { continue };
+            let spec = param(&path).unwrap_or_else(|| panic!("no row for {path}"));
+            assert!(
+                spec.choices.contains(&word),
+                "{path}: the default {word:?} is not among {:?}",
+                spec.choices
+            );
+            // Each word parses (one may still need other fields: "custom").
+            let known = |c: &str| match Preset::default().set(&format!("{path}=\"{c}\"")) {
+                Ok(()) => true,
+                Err(e) => !e.to_string().contains("unknown variant"),
+            };
+            for c in spec.choices {
+                assert!(known(c), "{path} = {c}");
+            }
+            assert!(!known("no-such-word"));
+        }
+    }
+    assert!(param("smudges.placement").unwrap().choices.len() >= 9);
+}

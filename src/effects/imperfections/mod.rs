@@ -1,5 +1,5 @@
 //! Imperfections after Becket & Badler (1990): scratches, splotches,
-//! stains, mould and rust, each a weight map that blends the wall toward
+//! stains, mould, rust, smudges and corrosion, each a weight map that blends the wall toward
 //! an imperfect look, placed by a rule in image space ([`placement`]) and
 //! calibrated so that it covers `coverage` of the placement area: the
 //! adverb table of the command language ([`crate::say`]) holds by
@@ -17,6 +17,7 @@ pub mod mould;
 pub mod placement;
 pub mod rust;
 pub mod scratches;
+pub mod smudges;
 
 use image::GrayImage;
 use serde::Serialize;
@@ -43,6 +44,10 @@ pub enum Gen {
     Mould = 3,
     /// Rust.
     Rust = 4,
+    /// Smudges.
+    Smudges = 5,
+    /// Corrosion.
+    Corrosion = 6,
 }
 
 impl Gen {
@@ -151,7 +156,7 @@ pub(super) fn stage(
     let seed = preset.seed;
     let mut layers = Vec::new();
     let mut generators = Vec::new();
-    let steps = 5.0;
+    let steps = 7.0;
     let mut push = |made: Made| {
         layers.extend(made.layers);
         generators.push(made.coverage);
@@ -213,6 +218,38 @@ pub(super) fn stage(
         let placed = placement::place(ctx, p.place());
         push(rust::stage(ctx, p, &placed, seed, progress)?);
     }
+    progress.check()?;
+    if preset.smudges.enabled {
+        progress.update("smudges", 5.0 / steps);
+        let p = &preset.smudges;
+        let placed = placement::place(ctx, p.place());
+        let (img, alpha) = smudges::smudges(ctx, p, &placed, seed);
+        push(Made {
+            layers: vec![layer(
+                "smudges",
+                BlendMode::Normal,
+                p.opacity,
+                LayerPixels::Rgba(img),
+            )],
+            coverage: coverage("smudges", &placed, p.coverage, &alpha),
+        });
+    }
+    progress.check()?;
+    if preset.corrosion.enabled {
+        progress.update("corrosion", 6.0 / steps);
+        let p = &preset.corrosion;
+        let placed = placement::place(ctx, p.place());
+        let (img, alpha) = smudges::corrosion(ctx, p, &placed, seed);
+        push(Made {
+            layers: vec![layer(
+                "corrosion",
+                BlendMode::Multiply,
+                p.opacity,
+                LayerPixels::Rgba(img),
+            )],
+            coverage: coverage("corrosion", &placed, p.coverage, &alpha),
+        });
+    }
     Ok(Produced {
         layer_stats: vec![None; layers.len()],
         layers,
@@ -227,6 +264,8 @@ pub fn enabled(preset: &Preset) -> bool {
         || preset.stains.enabled
         || preset.mould.enabled
         || preset.rust.enabled
+        || preset.smudges.enabled
+        || preset.corrosion.enabled
 }
 
 #[cfg(test)]

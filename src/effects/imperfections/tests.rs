@@ -2,7 +2,9 @@ use super::placement::{self, AREA};
 use super::*;
 use crate::effects::testing;
 use crate::field::RowMajor;
-use crate::preset::{BlotchParams, Placement, RustParams, ScratchParams};
+use crate::preset::{
+    BlotchParams, CorrosionParams, Placement, RustParams, ScratchParams, SmudgeParams,
+};
 use crate::say::{ADVERBS, NO_ADVERB};
 
 fn alpha_of(layer: &Layer) -> Vec<u8> {
@@ -181,7 +183,15 @@ fn the_coverage_table_holds_for_every_adverb_generator_and_placement() {
     testing::facade(240, 180, |ctx| {
         for placement in ["everywhere", "ground", "sills", "edges", "railings"] {
             for c in adverbs() {
-                for what in ["scratches", "splotches", "stains", "mould", "rust"] {
+                for what in [
+                    "scratches",
+                    "splotches",
+                    "stains",
+                    "mould",
+                    "rust",
+                    "smudges",
+                    "corrosion",
+                ] {
                     let mut preset = Preset::default();
                     preset.set(&format!("{what}.enabled=true")).unwrap();
                     preset.set(&format!("{what}.coverage={c}")).unwrap();
@@ -196,6 +206,8 @@ fn the_coverage_table_holds_for_every_adverb_generator_and_placement() {
                         "splotches" => preset.splotches.place(),
                         "stains" => preset.stains.place(),
                         "mould" => preset.mould.place(),
+                        "smudges" => preset.smudges.place(),
+                        "corrosion" => preset.corrosion.place(),
                         _ => preset.rust.place(),
                     };
                     let placed = placement::place(ctx, place);
@@ -236,5 +248,146 @@ fn placements_put_the_area_where_they_say() {
         assert!(rows(Placement::Ground) > rows(Placement::Everywhere));
         assert!(rows(Placement::Top) < rows(Placement::Everywhere));
         assert!((rows(Placement::Point) - 90.0).abs() < 2.0);
+    });
+}
+
+/// Covered pixels next to an uncovered one of the placement area.
+fn boundary(alpha: &image::GrayImage, placed: &placement::Placed) -> Vec<usize> {
+    let (w, h) = (placed.width, placed.height);
+    (0..w * h)
+        .filter(|&i| {
+            let (x, y) = (i % w, i / w);
+            alpha.as_raw()[i] > 0
+                && x > 0
+                && y > 0
+                && x + 1 < w
+                && y + 1 < h
+                && [i - 1, i + 1, i - w, i + w]
+                    .iter()
+                    .any(|&j| alpha.as_raw()[j] == 0 && placed.in_area(j))
+        })
+        .collect()
+}
+
+#[test]
+fn smudges_weigh_a_greasy_blur_by_the_fbm_and_fade_in_at_their_edge() {
+    testing::facade(320, 240, |ctx| {
+        let p = SmudgeParams {
+            enabled: true,
+            coverage: 0.4,
+            placement: Placement::Everywhere,
+            ..SmudgeParams::default()
+        };
+        let placed = placement::place(ctx, p.place());
+        let (img, alpha) = smudges::smudges(ctx, &p, &placed, 4);
+        assert!((measured(&alpha, &placed) - 0.4).abs() < 0.005);
+        // The fBm is the weight: alpha never falls as the field rises.
+        let f = fractal::Fractal::new(
+            4,
+            Gen::Smudges.stream(0),
+            320,
+            240,
+            ctx.photo_px(p.size),
+            p.roughness,
+        );
+        let wt = smudges::weight(&f, &placed, p.coverage, p.stretch);
+        let mut covered: Vec<(f32, u8)> = wt
+            .field
+            .iter()
+            .zip(alpha.as_raw())
+            .filter(|(_, a)| **a > 0)
+            .map(|(g, a)| (*g, *a))
+            .collect();
+        covered.sort_by(|a, b| a.0.total_cmp(&b.0));
+        assert!(covered.windows(2).all(|p| p[0].1 <= p[1].1));
+        // No hard edge (a splotch starts at half its alpha): soft at the rim.
+        let rim = boundary(&alpha, &placed);
+        assert!(rim.len() > 50);
+        let mean = rim.iter().map(|&i| alpha.as_raw()[i] as f32).sum::<f32>() / rim.len() as f32;
+        assert!(mean < 0.1 * 255.0, "rim alpha {mean}");
+        let top = *alpha.as_raw().iter().max().unwrap();
+        assert!(top > 240, "strongest smudge alpha {top}");
+        // Darker than the wall under it, on the whole.
+        let photo = ctx.photo.image().to_rgb8();
+        let luma = |c: &[u8]| c[0] as f32 * 0.3 + c[1] as f32 * 0.59 + c[2] as f32 * 0.11;
+        let (mut under, mut over) = (0.0, 0.0);
+        for (q, s) in photo.pixels().zip(img.pixels()) {
+            if s[3] > 128 {
+                under += luma(&q.0);
+                over += luma(&s.0);
+            }
+        }
+        assert!(over < under * 0.85, "smudge {over} wall {under}");
+    });
+}
+
+#[test]
+fn corrosion_pits_densest_where_its_fbm_weight_is_strongest() {
+    testing::facade(320, 240, |ctx| {
+        let p = CorrosionParams {
+            enabled: true,
+            coverage: 0.5,
+            placement: Placement::Everywhere,
+            ..CorrosionParams::default()
+        };
+        let placed = placement::place(ctx, p.place());
+        let (img, alpha) = smudges::corrosion(ctx, &p, &placed, 9);
+        assert!((measured(&alpha, &placed) - 0.5).abs() < 0.005);
+        let f = fractal::Fractal::new(
+            9,
+            Gen::Corrosion.stream(0),
+            320,
+            240,
+            ctx.photo_px(p.size),
+            p.roughness,
+        );
+        let wt = smudges::weight(&f, &placed, p.coverage, 1.0);
+        let pitted = smudges::pits(ctx, &p, &wt.weight, 320, 9);
+        // Pits are only inside the corrosion, and in the layer.
+        for (i, px) in img.pixels().enumerate() {
+            let a = alpha_byte(
+                smudges::pit_alpha(ctx.photo_px(p.pit_size)).max(p.discolour * wt.weight[i]),
+            );
+            assert!(!pitted[i] || (wt.weight[i] > 0.0 && px[3] == a));
+        }
+        let share = |lo: f32, hi: f32| {
+            let inside: Vec<usize> = (0..wt.weight.len())
+                .filter(|&i| wt.weight[i] > lo && wt.weight[i] <= hi)
+                .collect();
+            inside.iter().filter(|&&i| pitted[i]).count() as f32 / inside.len().max(1) as f32
+        };
+        let (weak, strong) = (share(0.0, 0.33), share(0.66, 1.0));
+        assert!(
+            strong > 2.0 * weak && strong > 0.15,
+            "pits: weak {weak} strong {strong}"
+        );
+        // Overall: about pits x mean weight of the covered pixels.
+        let n = wt.weight.iter().filter(|&&v| v > 0.0).count() as f32;
+        let mean = wt.weight.iter().sum::<f32>() / n;
+        let all = pitted.iter().filter(|&&b| b).count() as f32 / n;
+        assert!(
+            (all - p.pits * mean).abs() < 0.05,
+            "{all} vs {}",
+            p.pits * mean
+        );
+        // No pits at all: only the discolouration, its alpha the weight's.
+        let clean = smudges::corrosion(
+            ctx,
+            &CorrosionParams {
+                pits: 0.0,
+                ..p.clone()
+            },
+            &placed,
+            9,
+        )
+        .1;
+        for (a, v) in clean.as_raw().iter().zip(&wt.weight) {
+            let want = if *v > 0.0 {
+                alpha_byte(p.discolour * v)
+            } else {
+                0
+            };
+            assert_eq!(*a, want);
+        }
     });
 }

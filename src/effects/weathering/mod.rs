@@ -145,10 +145,12 @@ pub(super) fn stage(
             &environment(&climate, p),
             p.years / p.durability.max(1e-3),
         );
-        let pixels = LayerPixels::Tint {
-            color: p.color,
-            alpha: up(&g),
-        };
+        let pixels = LayerPixels::Rgba(crust(
+            &photo,
+            &up(&g),
+            p,
+            (preset.seed, ctx.photo_px(p.size / 15.0).max(1.5)),
+        ));
         add("spotty", p.opacity, &g, pixels);
     }
     Ok(Produced {
@@ -159,6 +161,37 @@ pub(super) fn stage(
             humidity: mean(&climate.humidity),
             generators,
         }),
+    })
+}
+
+/// Spotty's spots as a crust: the colour shaded by the wall's own light
+/// (so its texture shows through) and an alpha broken by a fine noise
+/// `grain` pixels across (a spot is a crust of small bodies, not a coat of
+/// paint).
+fn crust(
+    photo: &image::RgbImage,
+    alpha: &image::GrayImage,
+    p: &GeneratorParams,
+    (seed, grain): (u64, f32),
+) -> RgbaImage {
+    let (w, h) = photo.dimensions();
+    let luma = |c: [u8; 3]| 0.299 * c[0] as f32 + 0.587 * c[1] as f32 + 0.114 * c[2] as f32;
+    let mean = photo.pixels().map(|c| luma(c.0)).sum::<f32>() / (w * h).max(1) as f32;
+    let fine = Noise::new(key(seed, (Effect::Weathering, 1), 0, 0), w, h, grain, 2);
+    RgbaImage::from_fn(w, h, |x, y| {
+        let a = alpha.get_pixel(x, y)[0];
+        if a == 0 {
+            return image::Rgba([0; 4]);
+        }
+        let shade = (luma(photo.get_pixel(x, y).0) / mean.max(1.0))
+            .clamp(0.4, 1.4)
+            .powf(0.7);
+        let c = p
+            .color
+            .map(|v| (v as f32 * shade).round().clamp(0.0, 255.0) as u8);
+        let n = fine.at(x as f32, y as f32);
+        let a = (a as f32 * (0.45 + 0.55 * n)).round().max(1.0) as u8;
+        image::Rgba([c[0], c[1], c[2], a])
     })
 }
 
@@ -182,7 +215,7 @@ pub fn musgrave(ctx: &Context, p: &GeneratorParams, seed: u64) -> RowMajor<f32> 
 }
 
 /// The photo box-blurred with radius `r` (the local mean Roughy fades to).
-fn smoothed(photo: &image::RgbImage, r: usize) -> image::RgbImage {
+pub(crate) fn smoothed(photo: &image::RgbImage, r: usize) -> image::RgbImage {
     let (w, h) = (photo.width() as usize, photo.height() as usize);
     let channels: Vec<RowMajor<f32>> = (0..3)
         .into_par_iter()
