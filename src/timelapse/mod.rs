@@ -11,7 +11,6 @@ use image::{DynamicImage, RgbaImage};
 
 use crate::clock::{self, Pins};
 use crate::error::{Error, Result};
-use crate::export;
 use crate::io;
 use crate::pipeline::{self, Outcome, Scene};
 use crate::preset::Preset;
@@ -178,22 +177,24 @@ pub fn run(
         std::fs::create_dir_all(&t.path).map_err(|e| Error::io(&t.path, e))?;
     }
     let mut frames = Vec::new();
-    let out = pipeline::run_frames(scene, preset, &presets, progress, &mut |i, out| {
+    let icc = scene.photo.icc.as_deref();
+    let out = pipeline::run_frames(scene, preset, &presets, progress, &mut |i, frame| {
+        let img = frame.composite();
+        let text = recipe.with_preset(&presets[i]).to_text();
         if kind == Kind::Folder && !t.caption {
-            let text = recipe.with_preset(&presets[i]).to_text();
-            return export::save_with(&out.stack, &t.frame_path(years[i]), Some(&text));
+            // As `export::save_with` writes the stack to a PNG.
+            return io::save_image_with(&img, icc, &t.frame_path(years[i]), Some(&text));
         }
-        let mut img = out.stack.composite();
-        if kind != Kind::Folder {
-            img = shrink(img, t.max_side);
-        }
+        let img = match kind {
+            Kind::Folder => img,
+            _ => shrink(img, t.max_side),
+        };
         let mut rgba = img.to_rgba8();
         if t.caption {
             caption::draw(&mut rgba, years[i]);
         }
         match kind {
             Kind::Folder => {
-                let text = recipe.with_preset(&presets[i]).to_text();
                 let img = DynamicImage::ImageRgba8(rgba);
                 io::save_image_with(&img, None, &t.frame_path(years[i]), Some(&text))
             }
