@@ -479,7 +479,7 @@ mod tests {
             pixels: LayerPixels::Tint {
                 color: [k as u8 * 40, 90, 200],
                 alpha: GrayImage::from_fn(w, h, |x, y| {
-                    image::Luma([if (x + y + k) % 3 == 0 {
+                    image::Luma([if (x + y + k).is_multiple_of(3) {
                         0
                     } else {
                         noise(k)(x, y)

@@ -186,7 +186,7 @@ pub(super) fn moss(
         luma: ctx.luma,
         region: ctx.region,
         wet,
-        habitat: (p.open_wall < 1.0).then_some(&habitat),
+        habitat: (p.open_wall < 1.0).then_some(habitat),
         baseline,
     };
     let mut grown = moss::grow(
