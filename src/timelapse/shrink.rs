@@ -101,10 +101,12 @@ mod tests {
         let out = shrink(&DynamicImage::ImageRgb8(img), 2);
         assert_eq!(out.dimensions(), (2, 1));
         assert_eq!(out.as_raw(), &[50, 50, 50, 255, 20, 30, 40, 255]);
-        // A third of a pixel counts a third.
+        // 4 to 3: the first output pixel covers source pixel 0 and a third
+        // of pixel 1, which count by their share of its 4/3.
         let w = weights(4, 3);
-        assert_eq!(w[1].0, 1);
-        assert!((w[1].1[0] - 0.25).abs() < 1e-6 && (w[1].1[1] - 0.75).abs() < 1e-6);
+        assert_eq!(w[0].0, 0);
+        assert!((w[0].1[0] - 0.75).abs() < 1e-6 && (w[0].1[1] - 0.25).abs() < 1e-6);
+        assert_eq!(w[2].0, 2);
         assert_eq!(fit(4000, 3000, 1024), (1024, 768));
         assert_eq!(fit(10, 3000, 1024), (3, 1024));
         let flat =
