@@ -237,9 +237,19 @@ fn same_path(a: &Path, b: &Path) -> bool {
 /// # Errors
 /// Decoding errors naming the file, and the scene's size checks.
 pub fn load(inputs: &Inputs, preset: &Preset) -> Result<(Scene, Preset)> {
+    load_needing(inputs, preset, &io::limits::estimate)
+}
+
+/// [`load`], checking a photo file against the memory limit with `need`
+/// (the bytes its work needs at its size).
+fn load_needing(
+    inputs: &Inputs,
+    preset: &Preset,
+    need: &dyn Fn(u32, u32) -> u64,
+) -> Result<(Scene, Preset)> {
     let mut preset = preset.clone();
     let (photo, region, site) = match &inputs.source {
-        Source::File(path) => (Arc::new(io::load_photo(path)?), None, None),
+        Source::File(path) => (Arc::new(io::load_photo_needing(path, need)?), None, None),
         Source::Demo(name) => {
             let d = crate::demo::load(name)?;
             if preset.rain.source_lines.is_empty() && !d.source_lines.is_empty() {
@@ -364,7 +374,11 @@ pub fn age_adjusted(
     adjust: &dyn Fn(&mut Stack),
 ) -> Result<Outcome> {
     guard(inputs, outputs)?;
-    let (scene, preset) = load(inputs, preset)?;
+    let need = |w, h| match &outputs.timelapse {
+        Some(t) => t.memory(w, h, preset.age.years.unwrap_or(0)),
+        None => io::limits::estimate(w, h),
+    };
+    let (scene, preset) = load_needing(inputs, preset, &need)?;
     let recipe = Recipe::new(inputs, &preset)?;
     let span = progress.span(0.0, 0.95);
     let mut outcome = match &outputs.timelapse {

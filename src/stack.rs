@@ -165,27 +165,116 @@ impl Stack {
     /// Flattens the visible layers onto the photo, at the photo's bit depth;
     /// an alpha channel in the photo is kept as is.
     pub fn composite(&self) -> DynamicImage {
-        let visible: Vec<&Layer> = self
-            .layers
-            .iter()
-            .filter(|l| l.visible && l.opacity > 0.0)
-            .collect();
+        let visible = shown(&self.layers.iter().collect::<Vec<_>>());
         match self.base.image() {
             DynamicImage::ImageRgb8(img) => {
-                DynamicImage::ImageRgb8(composite_buffer(img, 3, 255.0, &visible))
+                DynamicImage::ImageRgb8(composite_buffer(img, 3, 255.0, &visible, None))
             }
             DynamicImage::ImageRgba8(img) => {
-                DynamicImage::ImageRgba8(composite_buffer(img, 4, 255.0, &visible))
+                DynamicImage::ImageRgba8(composite_buffer(img, 4, 255.0, &visible, None))
             }
             DynamicImage::ImageRgb16(img) => {
-                DynamicImage::ImageRgb16(composite_buffer(img, 3, 65535.0, &visible))
+                DynamicImage::ImageRgb16(composite_buffer(img, 3, 65535.0, &visible, None))
             }
             DynamicImage::ImageRgba16(img) => {
-                DynamicImage::ImageRgba16(composite_buffer(img, 4, 65535.0, &visible))
+                DynamicImage::ImageRgba16(composite_buffer(img, 4, 65535.0, &visible, None))
             }
             other => other.clone(),
         }
     }
+}
+
+/// The layers that take part in a composite: visible, not fully transparent.
+fn shown<'a>(layers: &[&'a Layer]) -> Vec<&'a Layer> {
+    layers
+        .iter()
+        .copied()
+        .filter(|l| l.visible && l.opacity > 0.0)
+        .collect()
+}
+
+/// A composite built up from the bottom: the photo with the layers added so
+/// far blended, unrounded. Stacks that share their lowest layers (the frames
+/// of a time-lapse share the rainfalls so far) blend those once:
+/// [`Partial::finish`] equals [`Stack::composite`] of a stack holding the
+/// added layers and then its own, byte for byte (the same operations on the
+/// same numbers, rounded once at the end).
+#[derive(Debug, Clone)]
+pub struct Partial {
+    base: std::sync::Arc<Photo>,
+    /// Levels in 0..1, the photo's channels per pixel (empty for a photo
+    /// type the compositor leaves as is).
+    acc: Vec<f32>,
+    /// Whether a layer painted the pixel (the others keep the photo's value).
+    touched: Vec<bool>,
+}
+
+impl Partial {
+    /// The photo with no layer yet.
+    pub fn new(base: &std::sync::Arc<Photo>) -> Partial {
+        let acc = match base.image() {
+            DynamicImage::ImageRgb8(img) => levels(img, 255.0),
+            DynamicImage::ImageRgba8(img) => levels(img, 255.0),
+            DynamicImage::ImageRgb16(img) => levels(img, 65535.0),
+            DynamicImage::ImageRgba16(img) => levels(img, 65535.0),
+            _ => Vec::new(),
+        };
+        let (w, h) = (base.image().width(), base.image().height());
+        let touched = match acc.is_empty() {
+            true => Vec::new(),
+            false => vec![false; w as usize * h as usize],
+        };
+        Partial {
+            base: std::sync::Arc::clone(base),
+            acc,
+            touched,
+        }
+    }
+
+    /// Blends `layers` (the hidden ones skipped) over what is there.
+    pub fn add(&mut self, layers: &[&Layer]) {
+        let layers = shown(layers);
+        let w = self.base.image().width() as usize;
+        if self.acc.is_empty() || layers.is_empty() || w == 0 {
+            return;
+        }
+        let channels = self.acc.len() / self.touched.len();
+        self.acc
+            .par_chunks_exact_mut(w * channels)
+            .zip(self.touched.par_chunks_exact_mut(w))
+            .enumerate()
+            .for_each(|(y, (acc, touched))| blend_row(&layers, y, channels, acc, touched));
+    }
+
+    /// The composite with `layers` over the ones added, which stay as they are.
+    pub fn finish(&self, layers: &[&Layer]) -> DynamicImage {
+        let layers = shown(layers);
+        let start = Some((self.acc.as_slice(), self.touched.as_slice()));
+        match self.base.image() {
+            DynamicImage::ImageRgb8(img) => {
+                DynamicImage::ImageRgb8(composite_buffer(img, 3, 255.0, &layers, start))
+            }
+            DynamicImage::ImageRgba8(img) => {
+                DynamicImage::ImageRgba8(composite_buffer(img, 4, 255.0, &layers, start))
+            }
+            DynamicImage::ImageRgb16(img) => {
+                DynamicImage::ImageRgb16(composite_buffer(img, 3, 65535.0, &layers, start))
+            }
+            DynamicImage::ImageRgba16(img) => {
+                DynamicImage::ImageRgba16(composite_buffer(img, 4, 65535.0, &layers, start))
+            }
+            other => other.clone(),
+        }
+    }
+}
+
+/// Every subpixel of `img` as a level in 0..1.
+fn levels<P, T>(img: &ImageBuffer<P, Vec<T>>, full: f32) -> Vec<f32>
+where
+    P: image::Pixel<Subpixel = T>,
+    T: Channel + image::Primitive,
+{
+    img.as_raw().par_iter().map(|v| v.level() / full).collect()
 }
 
 /// A subpixel type the compositor can read and write.
@@ -220,11 +309,48 @@ fn blend_pixel(mode: BlendMode, px: &mut [f32], c: [f32; 3], a: f32) {
     }
 }
 
+/// Blends `layers` over row `y`: `acc` holds its levels (`channels` per
+/// pixel), `touched` whether a layer painted each pixel.
+fn blend_row(layers: &[&Layer], y: usize, channels: usize, acc: &mut [f32], touched: &mut [bool]) {
+    let wu = touched.len();
+    for layer in layers {
+        // Alpha byte to effective alpha, opacity included.
+        let o = layer.opacity / 255.0;
+        match &layer.pixels {
+            LayerPixels::Tint { color, alpha } => {
+                let c = color.map(|v| v as f32 / 255.0);
+                let alpha = &alpha.as_raw()[y * wu..(y + 1) * wu];
+                for (x, &a) in alpha.iter().enumerate().filter(|(_, a)| **a != 0) {
+                    touched[x] = true;
+                    let px = &mut acc[x * channels..x * channels + 3];
+                    blend_pixel(layer.blend, px, c, a as f32 * o);
+                }
+            }
+            LayerPixels::Rgba(img) => {
+                let src = &img.as_raw()[y * wu * 4..(y + 1) * wu * 4];
+                for (x, s) in src.chunks_exact(4).enumerate().filter(|(_, s)| s[3] != 0) {
+                    touched[x] = true;
+                    let c = [
+                        s[0] as f32 / 255.0,
+                        s[1] as f32 / 255.0,
+                        s[2] as f32 / 255.0,
+                    ];
+                    let px = &mut acc[x * channels..x * channels + 3];
+                    blend_pixel(layer.blend, px, c, s[3] as f32 * o);
+                }
+            }
+        }
+    }
+}
+
+/// `layers` over `base`, or over `start` (the levels and touched pixels of
+/// a [`Partial`] made from `base`).
 fn composite_buffer<P, T>(
     base: &ImageBuffer<P, Vec<T>>,
     channels: usize,
     full: f32,
     layers: &[&Layer],
+    start: Option<(&[f32], &[bool])>,
 ) -> ImageBuffer<P, Vec<T>>
 where
     P: image::Pixel<Subpixel = T>,
@@ -237,36 +363,17 @@ where
     out.par_chunks_exact_mut(row_len)
         .enumerate()
         .for_each(|(y, row)| {
-            let mut acc: Vec<f32> = row.iter().map(|v| v.level() / full).collect();
-            let mut touched = vec![false; wu];
-            for layer in layers {
-                // Alpha byte to effective alpha, opacity included.
-                let o = layer.opacity / 255.0;
-                match &layer.pixels {
-                    LayerPixels::Tint { color, alpha } => {
-                        let c = color.map(|v| v as f32 / 255.0);
-                        let alpha = &alpha.as_raw()[y * wu..(y + 1) * wu];
-                        for (x, &a) in alpha.iter().enumerate().filter(|(_, a)| **a != 0) {
-                            touched[x] = true;
-                            let px = &mut acc[x * channels..x * channels + 3];
-                            blend_pixel(layer.blend, px, c, a as f32 * o);
-                        }
-                    }
-                    LayerPixels::Rgba(img) => {
-                        let src = &img.as_raw()[y * wu * 4..(y + 1) * wu * 4];
-                        for (x, s) in src.chunks_exact(4).enumerate().filter(|(_, s)| s[3] != 0) {
-                            touched[x] = true;
-                            let c = [
-                                s[0] as f32 / 255.0,
-                                s[1] as f32 / 255.0,
-                                s[2] as f32 / 255.0,
-                            ];
-                            let px = &mut acc[x * channels..x * channels + 3];
-                            blend_pixel(layer.blend, px, c, s[3] as f32 * o);
-                        }
-                    }
-                }
-            }
+            let (mut acc, mut touched): (Vec<f32>, Vec<bool>) = match start {
+                None => (
+                    row.iter().map(|v| v.level() / full).collect(),
+                    vec![false; wu],
+                ),
+                Some((acc, touched)) => (
+                    acc[y * row_len..(y + 1) * row_len].to_vec(),
+                    touched[y * wu..(y + 1) * wu].to_vec(),
+                ),
+            };
+            blend_row(layers, y, channels, &mut acc, &mut touched);
             for (x, _) in touched.iter().enumerate().filter(|(_, t)| **t) {
                 for c in 0..3 {
                     row[x * channels + c] = T::from_level(acc[x * channels + c] * full);
@@ -358,6 +465,72 @@ mod tests {
         );
         assert!(out.iter().zip(base).all(|(o, b)| *o <= b));
         assert_eq!(out[1], 130, "white multiplies to no change");
+    }
+
+    #[test]
+    fn a_partial_composite_finishes_as_the_whole_stack() {
+        let (w, h) = (7, 5);
+        let noise = |k: u32| move |x: u32, y: u32| ((x * 37 + y * 91 + k * 53) % 256) as u8;
+        let base = RgbImage::from_fn(w, h, |x, y| {
+            image::Rgb([noise(1)(x, y), noise(2)(x, y), noise(3)(x, y)])
+        });
+        let base = std::sync::Arc::new(Photo::new(DynamicImage::ImageRgb8(base)));
+        let tint = |k: u32, blend| Layer {
+            name: format!("t{k}"),
+            kind: None,
+            blend,
+            opacity: 0.3 + 0.1 * k as f32,
+            visible: k != 2,
+            pixels: LayerPixels::Tint {
+                color: [k as u8 * 40, 90, 200],
+                alpha: GrayImage::from_fn(w, h, |x, y| {
+                    image::Luma([if (x + y + k).is_multiple_of(3) {
+                        0
+                    } else {
+                        noise(k)(x, y)
+                    }])
+                }),
+            },
+        };
+        let rgba = Layer {
+            name: "rgba".into(),
+            kind: None,
+            blend: BlendMode::Normal,
+            opacity: 0.8,
+            visible: true,
+            pixels: LayerPixels::Rgba(RgbaImage::from_fn(w, h, |x, y| {
+                Rgba([
+                    noise(7)(x, y),
+                    10,
+                    250,
+                    if x == 3 { 0 } else { noise(8)(x, y) },
+                ])
+            })),
+        };
+        let layers = vec![
+            tint(0, BlendMode::Multiply),
+            tint(1, BlendMode::Multiply),
+            tint(2, BlendMode::Normal),
+            rgba,
+            tint(4, BlendMode::Normal),
+        ];
+        let whole = Stack {
+            base: std::sync::Arc::clone(&base),
+            layers: layers.clone(),
+            region: None,
+        }
+        .composite();
+        let refs: Vec<&Layer> = layers.iter().collect();
+        for split in 0..=layers.len() {
+            let mut partial = Partial::new(&base);
+            // Added in two steps: the same as in one.
+            partial.add(&refs[..split / 2]);
+            partial.add(&refs[split / 2..split]);
+            let got = partial.finish(&refs[split..]);
+            assert_eq!(got.as_bytes(), whole.as_bytes(), "split at {split}");
+            assert_eq!(partial.finish(&refs[split..]).as_bytes(), whole.as_bytes());
+        }
+        assert_ne!(whole.as_bytes(), base.image().as_bytes());
     }
 
     #[test]

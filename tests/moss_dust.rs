@@ -106,7 +106,9 @@ fn film_holds_exactly_eq_1_particles_after_t_days() {
         // The film itself holds them, one count per particle.
         let region = Region::new(320, 240, scene.region.as_deref()).unwrap();
         let mut state = DustState::new(&region, &p.dust, p.seed).unwrap();
-        state.advance_to(t, &p.dust, &Progress::none()).unwrap();
+        state
+            .advance_to(&region, t, &p.dust, &Progress::none())
+            .unwrap();
         assert_eq!(state.film.total(), want, "T = {t}");
     }
 }
@@ -117,13 +119,19 @@ fn a_time_sequence_is_incremental() {
     let mut p = papers().dust;
     p.environment = DustEnvironment::HighActivity;
     let mut stepped = DustState::new(&region, &p, 4).unwrap();
-    stepped.advance_to(100, &p, &Progress::none()).unwrap();
-    let (film100, gran100, stats100) = stepped.render(&p, None).unwrap();
-    stepped.advance_to(200, &p, &Progress::none()).unwrap();
-    let (film200, gran200, stats200) = stepped.render(&p, None).unwrap();
+    stepped
+        .advance_to(&region, 100, &p, &Progress::none())
+        .unwrap();
+    let (film100, gran100, stats100) = stepped.render(&region, &p, None).unwrap();
+    stepped
+        .advance_to(&region, 200, &p, &Progress::none())
+        .unwrap();
+    let (film200, gran200, stats200) = stepped.render(&region, &p, None).unwrap();
     let mut direct = DustState::new(&region, &p, 4).unwrap();
-    direct.advance_to(200, &p, &Progress::none()).unwrap();
-    let (film_d, gran_d, stats_d) = direct.render(&p, None).unwrap();
+    direct
+        .advance_to(&region, 200, &p, &Progress::none())
+        .unwrap();
+    let (film_d, gran_d, stats_d) = direct.render(&region, &p, None).unwrap();
     assert_eq!(film200, film_d, "day 100 + days 101-200 = day 200");
     assert_eq!(gran200, gran_d);
     assert_eq!(stats200, stats_d);

@@ -23,6 +23,7 @@
 //! file (a variant and its arms), and `preset/` (its params struct and
 //! PARAMS rows). README "How to add an effect" walks through it.
 
+pub mod carry;
 pub mod climate;
 pub mod dust;
 pub mod gammaton;
@@ -232,7 +233,7 @@ impl Effect {
         match self {
             Effect::Rain => stages::rain(ctx, products, preset, progress),
             Effect::Moss => stages::moss(ctx, products, preset, progress),
-            Effect::Dust => stages::dust(ctx, preset, progress),
+            Effect::Dust => stages::dust(ctx, products, preset, progress),
             Effect::Gammaton => gammaton::stage(ctx, products, preset, progress),
             Effect::Imperfections => imperfections::stage(ctx, products, preset, progress),
             Effect::Weathering => weathering::stage(ctx, products, preset, progress),
@@ -293,6 +294,9 @@ pub struct Products {
     /// preset has one): a time-lapse frame's, which its first rainfalls'
     /// layers do not give.
     pub rain_washed: Vec<(u32, Layer)>,
+    /// What a time-lapse's frames carry from one to the next (the dust so
+    /// far, maps that do not age); `None` in a plain run.
+    pub carry: Option<Box<carry::Carry>>,
 }
 
 /// What one effect made.

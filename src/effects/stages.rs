@@ -256,15 +256,25 @@ pub(super) fn moss(
     preset: &Preset,
     progress: &Progress,
 ) -> Result<Produced> {
-    let rain = products.rain.as_deref();
-    let wet = rain.filter(|r| !r.layers.is_empty()).map(|r| Wet {
-        water: &r.water,
-        saturation: preset.rain.saturation,
-        dirt: &r.dirt,
-        d_max: moss::d_max(&r.dirt, ctx.region, preset.stain.percentile),
-    });
+    let rain = products.rain.clone();
+    let wet = rain
+        .as_deref()
+        .filter(|r| !r.layers.is_empty())
+        .map(|r| Wet {
+            water: &r.water,
+            saturation: preset.rain.saturation,
+            dirt: &r.dirt,
+            d_max: moss::d_max(&r.dirt, ctx.region, preset.stain.percentile),
+        });
     let p = &preset.moss;
-    let habitat = moss_habitat(ctx, p, preset.seed);
+    let made;
+    let habitat = match products.carry.as_deref_mut() {
+        Some(carry) => carry.habitat(p, preset.seed, || moss_habitat(ctx, p, preset.seed)),
+        None => {
+            made = moss_habitat(ctx, p, preset.seed);
+            &made
+        }
+    };
     let baseline = match p.baseline > 0.0 {
         true => p.baseline * ctx.grid.box_w as f32,
         false => ctx.photo_px(p.colony_m),
@@ -273,7 +283,7 @@ pub(super) fn moss(
         luma: ctx.luma,
         region: ctx.region,
         wet,
-        habitat: (p.open_wall < 1.0).then_some(&habitat),
+        habitat: (p.open_wall < 1.0).then_some(habitat),
         baseline,
     };
     let mut grown = moss::grow(
@@ -340,22 +350,28 @@ const PATCHES: u16 = 1;
 /// The "dust film" and "dust granules" layers (Santos & Baranoski), at the
 /// scene's scale, settled where rain does not wash: on ledge tops and in
 /// rain shelter, `open_wall` as much on the rest.
-pub(super) fn dust(ctx: &Context, preset: &Preset, progress: &Progress) -> Result<Produced> {
+pub(super) fn dust(
+    ctx: &Context,
+    products: &mut Products,
+    preset: &Preset,
+    progress: &Progress,
+) -> Result<Produced> {
     let p = &dust::at_scale(&preset.dust, ctx.site.metres_per_pixel);
-    let (mut film, mut granules, stats) =
-        dust::accumulate(ctx.wall, ctx.normals, p, preset.seed, progress)?;
+    let (mut film, mut granules, stats) = match products.carry.as_deref_mut() {
+        Some(carry) => carry.dust(ctx.wall, ctx.normals, p, preset.seed, progress)?,
+        None => dust::accumulate(ctx.wall, ctx.normals, p, preset.seed, progress)?,
+    };
     if p.open_wall < 1.0 {
-        let mut settle = habitat::ledge_tops(ctx, p.ledge_top_m);
-        let shelter = habitat::shelter(ctx);
-        for (v, s) in settle.data_mut().iter_mut().zip(shelter.data()) {
-            // [choice] Shelter half as much as a ledge top: the analysis's
-            // shelter is a coarse band, and soot there is a tone, not a coat.
-            *v = p.open_wall + (1.0 - p.open_wall) * v.max(0.5 * s);
-        }
-        let (w, h) = ctx.size();
-        let settle = ctx.grid.upsample(&settle, ctx.mask, w, h);
-        settle_alpha(film.as_mut(), 4, &settle);
-        settle_alpha(granules.as_mut(), 1, &settle);
+        let made;
+        let settle = match products.carry.as_deref_mut() {
+            Some(carry) => carry.settle(p, || dust_settle(ctx, p)),
+            None => {
+                made = dust_settle(ctx, p);
+                &made
+            }
+        };
+        settle_alpha(film.as_mut(), 4, settle);
+        settle_alpha(granules.as_mut(), 1, settle);
     }
     let l_wall = surface::wall_luma(ctx.luma, ctx.region);
     surface::modulate(&mut film, ctx.photo, l_wall);
@@ -385,6 +401,20 @@ pub(super) fn dust(ctx: &Context, preset: &Preset, progress: &Progress) -> Resul
         layer_stats: vec![None, None],
         stats: Stats::Dust(stats),
     })
+}
+
+/// How much dust settles per photo pixel, 0..255: 255 on ledge tops, half
+/// that in rain shelter, `open_wall` on the rest.
+fn dust_settle(ctx: &Context, p: &crate::preset::DustParams) -> image::GrayImage {
+    let mut settle = habitat::ledge_tops(ctx, p.ledge_top_m);
+    let shelter = habitat::shelter(ctx);
+    for (v, s) in settle.data_mut().iter_mut().zip(shelter.data()) {
+        // [choice] Shelter half as much as a ledge top: the analysis's
+        // shelter is a coarse band, and soot there is a tone, not a coat.
+        *v = p.open_wall + (1.0 - p.open_wall) * v.max(0.5 * s);
+    }
+    let (w, h) = ctx.size();
+    ctx.grid.upsample(&settle, ctx.mask, w, h)
 }
 
 /// Scales the alpha (the last of `channels` per pixel) of `pixels` by

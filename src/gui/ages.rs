@@ -40,9 +40,10 @@ pub fn run(
         .map(|y| clock::at(preset, y, pins))
         .collect::<Result<Vec<_>>>()?;
     let mut frames = Vec::with_capacity(presets.len());
-    let out = pipeline::run_frames(scene, preset, &presets, progress, &mut |i, mut out| {
-        apply_layer_settings(layers, &mut out.stack);
-        let image = to_color_image(&out.stack.composite());
+    let out = pipeline::run_frames(scene, preset, &presets, progress, &mut |i, frame| {
+        let mut stack = frame.stack();
+        apply_layer_settings(layers, &mut stack);
+        let image = to_color_image(&stack.composite());
         frames.push((i as u32, Arc::new(image)));
         Ok(())
     })?;

@@ -77,9 +77,28 @@ pub fn parse_size(text: &str) -> std::result::Result<u64, String> {
     Ok((v * scale as f64).round() as u64)
 }
 
+/// Peak memory of a run with a time-lapse per photo pixel, besides the
+/// frames an animation keeps: the run's layers, the photo with the shared
+/// rainfalls composited once (13 B/px), the dust carried between frames
+/// and a frame's own layers and composite (BENCHMARKS.md, "Time-lapse
+/// (issue 15)").
+pub const TIMELAPSE_BYTES_PER_PIXEL: u64 = 110;
+
 /// Estimated peak memory of ageing a `w` x `h` photo.
 pub fn estimate(w: u32, h: u32) -> u64 {
     w as u64 * h as u64 * BYTES_PER_PIXEL
+}
+
+/// Estimated peak memory of ageing a `w` x `h` photo with a time-lapse
+/// that keeps `frames` RGBA frames of longest side `max_side` (0 = the
+/// photo's) until it writes them (an animation; a folder keeps none).
+pub fn estimate_timelapse(w: u32, h: u32, frames: u64, max_side: u32) -> u64 {
+    let scale = match max_side {
+        0 => 1.0,
+        s => (s as f64 / w.max(h).max(1) as f64).min(1.0),
+    };
+    let frame = (w as f64 * scale).ceil() * (h as f64 * scale).ceil() * 4.0;
+    w as u64 * h as u64 * TIMELAPSE_BYTES_PER_PIXEL + frames * frame as u64
 }
 
 /// Refuses a photo whose run would need more than [`max_memory`].
@@ -87,7 +106,14 @@ pub fn estimate(w: u32, h: u32) -> u64 {
 /// # Errors
 /// [`Error::MemoryLimit`] with the estimate and a limit that would do.
 pub fn check(path: &Path, w: u32, h: u32) -> Result<()> {
-    let needed = estimate(w, h);
+    check_needing(path, w, h, estimate(w, h))
+}
+
+/// Refuses a `w` x `h` photo when `needed` bytes are more than [`max_memory`].
+///
+/// # Errors
+/// [`Error::MemoryLimit`] with the estimate and a limit that would do.
+pub fn check_needing(path: &Path, w: u32, h: u32, needed: u64) -> Result<()> {
     let limit = max_memory()?;
     if needed <= limit {
         return Ok(());
@@ -125,5 +151,23 @@ mod tests {
         assert!(err.contains("about 8.8 GiB"), "{err}");
         assert!(err.contains("--max-memory 9G"), "{err}");
         assert!(check(Path::new("a.png"), 4000, 3000).is_ok());
+    }
+
+    #[test]
+    fn a_timelapse_counts_its_frames_and_the_shared_layers() {
+        let run = estimate(4000, 3000);
+        let folder = estimate_timelapse(4000, 3000, 0, 1024);
+        assert!(folder > 2 * run, "{folder} vs {run}");
+        // 31 GIF frames of 1024 x 768.
+        let gif = estimate_timelapse(4000, 3000, 31, 1024);
+        assert_eq!(gif - folder, 31 * 1024 * 768 * 4);
+        // Frames at the photo's size when it is smaller than the frame size.
+        assert_eq!(
+            estimate_timelapse(100, 50, 2, 1024) - estimate_timelapse(100, 50, 0, 1024),
+            2 * 100 * 50 * 4
+        );
+        // A 12 MP photo whose run fits 1 GiB is refused with a time-lapse.
+        let limit = 1u64 << 30;
+        assert!(run < limit && gif > limit);
     }
 }

@@ -265,7 +265,17 @@ pub fn jpeg_complete(data: &[u8]) -> std::result::Result<(), String> {
 /// # Errors
 /// As [`load_image`], plus [`Error::MemoryLimit`].
 pub fn load_photo(path: &Path) -> Result<Photo> {
-    let (img, icc) = load_image_checked(path, |w, h| limits::check(path, w, h))?;
+    load_photo_needing(path, &limits::estimate)
+}
+
+/// [`load_photo`] for work that needs `need(width, height)` bytes at its
+/// peak (e.g. [`limits::estimate_timelapse`]).
+///
+/// # Errors
+/// As [`load_photo`].
+pub fn load_photo_needing(path: &Path, need: &dyn Fn(u32, u32) -> u64) -> Result<Photo> {
+    let (img, icc) =
+        load_image_checked(path, |w, h| limits::check_needing(path, w, h, need(w, h)))?;
     let mut photo = Photo::new(img);
     photo.icc = icc;
     Ok(photo)

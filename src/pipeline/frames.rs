@@ -1,26 +1,60 @@
 //! A time-lapse: the scene at several ages with the rain simulated once.
 //!
 //! The run at the oldest age keeps the wall after each frame's number of
-//! rainfalls ([`crate::effects::rain::simulate_keeping`]). Each frame then
-//! re-uses that run's first rainfalls as they are (each rainfall depends
-//! only on those before it) and re-runs only what the age changes (moss on
-//! the wall kept at that age, dust over fewer days) through
-//! [`run_cached`], so a frame equals [`run`] with its own preset.
+//! rainfalls ([`crate::effects::rain::simulate_keeping`]). A frame then
+//! shows that run's first rainfalls as they are (each rainfall depends only
+//! on those before it) and runs again only the effects the age changes
+//! (moss on the wall kept at that age, dust over fewer days), on one
+//! [`Context`] for all frames. What does not age is carried from frame to
+//! frame ([`Carry`]: the dust so far, which only grows, and the maps the
+//! moss and dust settle by), and the photo with the shared lowest layers
+//! is composited once and added to as the rainfalls grow ([`Partial`]). A
+//! frame equals [`super::run`] with its own preset, byte for byte.
 
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use super::{Cache, Outcome, run_cached};
+use image::DynamicImage;
+
+use super::{Cache, Outcome, Prepared, plane_of, plane_preset, run_cached};
 use crate::clock;
-use crate::effects::{Effect, Produced, Products, stale};
+use crate::effects::carry::Carry;
+use crate::effects::region::Region;
+use crate::effects::{Effect, Products, stale};
 use crate::error::{Error, Result};
 use crate::pipeline::Scene;
 use crate::preset::Preset;
 use crate::progress::Progress;
-use crate::stack::Layer;
+use crate::stack::{Layer, Partial, Stack};
+
+/// One frame: the scene's layers at the frame's age.
+pub struct Frame<'a> {
+    stack: &'a Stack,
+    /// Every layer, bottom to top.
+    layers: Vec<&'a Layer>,
+    /// The photo with the lowest layers, which the frames share.
+    below: &'a Partial,
+    /// The layers above `below`.
+    above: Vec<&'a Layer>,
+}
+
+impl Frame<'_> {
+    /// The frame's composite (as [`Stack::composite`] of [`Frame::stack`]).
+    pub fn composite(&self) -> DynamicImage {
+        self.below.finish(&self.above)
+    }
+
+    /// The frame's layer stack (a copy of every layer).
+    pub fn stack(&self) -> Stack {
+        Stack {
+            base: Arc::clone(&self.stack.base),
+            layers: self.layers.iter().map(|l| (*l).clone()).collect(),
+            region: self.stack.region.clone(),
+        }
+    }
+}
 
 /// Runs `scene` at `last` (the oldest age), then calls `each` with every
-/// frame's index and outcome, in order; returns the outcome at `last`.
+/// frame's index and layers, in order; returns the outcome at `last`.
 ///
 /// # Errors
 /// [`Error::OutOfRange`] when a frame's preset differs from `last` other
@@ -31,86 +65,143 @@ pub fn run_frames(
     last: &Preset,
     frames: &[Preset],
     progress: &Progress,
-    each: &mut dyn FnMut(usize, Outcome) -> Result<()>,
+    each: &mut dyn FnMut(usize, Frame) -> Result<()>,
 ) -> Result<Outcome> {
     for frame in frames {
         check_frame(frame, last)?;
     }
     let mut cache = Cache {
         scene: Some(scene.clone()),
-        ..Cache::default()
+        ..Cache::none()
     };
     cache.products.keep_rain_at = frames.iter().map(|f| f.rain.layers).collect();
     let share = 1.0 / (frames.len() + 1) as f32;
     let full = run_cached(scene, last, &progress.span(0.0, share), &mut cache)?;
-    let (_, rain) = cache
-        .made
-        .remove(&Effect::Rain)
-        .ok_or_else(|| Error::Preset("the rain did not run".into()))?;
-    let whole = full.rain.clone();
+    let kept = std::mem::take(&mut cache.products.rain_kept);
+    let washed = std::mem::take(&mut cache.products.rain_washed);
+    drop(cache);
+    // The effects the clock changes, besides the rain, run per frame; the
+    // others' layers are the run's.
+    let own: Vec<Effect> = Effect::ALL
+        .into_iter()
+        .filter(|e| *e != Effect::Rain && e.enabled(last))
+        .filter(|e| frames.iter().any(|f| stale(last, f).contains(e)))
+        .collect();
+    let first_own = Effect::ALL
+        .iter()
+        .position(|e| own.contains(e))
+        .unwrap_or(Effect::ALL.len());
+    let plane = scene
+        .quad
+        .as_ref()
+        .map(|q| plane_of(scene, q))
+        .transpose()?;
+    // The washed runs after each frame's rainfalls, on the photo.
+    let washed: Vec<(u32, Layer)> = washed
+        .into_iter()
+        .map(|(n, layer)| match &plane {
+            Some((rect, _)) => {
+                let (pw, ph) = scene.size();
+                (n, rect.unrectify_layer(&layer, pw, ph, scene.region.as_deref()))
+            }
+            None => (n, layer),
+        })
+        .collect();
+    let at = plane.as_ref().map_or(scene, |(_, s)| s);
+    let prepared = Prepared::new(at, last)?;
+    let (w, h) = at.size();
+    let wall = Region::new(w, h, at.region.as_deref())?;
+    let ctx = prepared.context(at, &wall);
+    let mut products = Products {
+        carry: Some(Box::new(Carry::default())),
+        ..Products::default()
+    };
+    let mut below = Partial::new(&scene.photo);
+    // The layers in `below`, by address (the run's, shared by the frames).
+    let mut below_layers: Vec<*const Layer> = Vec::new();
     for (i, frame) in frames.iter().enumerate() {
         progress.check()?;
-        let kept = cache
-            .products
-            .rain_kept
+        let span = progress.span(share * (i + 1) as f32, share * (i + 2) as f32);
+        let wall_then = kept
             .iter()
             .find(|k| k.rainfalls == frame.rain.layers)
             .ok_or_else(|| Error::Preset("a frame's rainfalls were not kept".into()))?;
-        // What the frame can keep: effects that read nothing and whose
-        // fields it does not change (copying the others would be wasted).
-        let mut made: BTreeMap<Effect, (Preset, Produced)> = cache
-            .made
-            .iter()
-            .filter(|(e, (p, _))| e.inputs().is_empty() && !stale(p, frame).contains(e))
-            .map(|(e, m)| (*e, m.clone()))
-            .collect();
-        let washed = cache
-            .products
-            .rain_washed
-            .iter()
-            .find(|(n, _)| *n == kept.rainfalls)
-            .map(|(_, l)| l);
-        made.insert(
-            Effect::Rain,
-            (frame.clone(), first(&rain, kept.rainfalls, washed)),
-        );
-        let mut frame_cache = Cache {
-            keep: false,
-            scene: cache.scene.clone(),
-            made,
-            stamps: cache.stamps.clone(),
-            products: Products {
-                rain: Some(Arc::new(whole.prefix(kept))),
-                ..Products::default()
-            },
+        products.rain = Some(Arc::new(full.rain.prefix(wall_then)));
+        let preset = match &plane {
+            Some((rect, _)) => plane_preset(rect, frame),
+            None => frame.clone(),
         };
-        let at = share * (i + 1) as f32;
-        let out = run_cached(
-            scene,
-            frame,
-            &progress.span(at, at + share),
-            &mut frame_cache,
-        )?;
-        each(i, out)?;
+        let mut made: Vec<(Effect, Vec<Layer>)> = Vec::with_capacity(own.len());
+        for (j, e) in own.iter().enumerate() {
+            let part = span.span(
+                j as f32 / own.len() as f32,
+                (j + 1) as f32 / own.len() as f32,
+            );
+            let mut layers = e.run(&ctx, &mut products, &preset, &part)?.layers;
+            for (k, layer) in layers.iter_mut().enumerate() {
+                e.restyle(layer, k, frame);
+                if let Some((rect, _)) = &plane {
+                    let (pw, ph) = scene.size();
+                    *layer = rect.unrectify_layer(layer, pw, ph, scene.region.as_deref());
+                }
+            }
+            made.push((*e, layers));
+        }
+        // Bottom to top: each effect's layers, the run's or the frame's.
+        let mut layers: Vec<&Layer> = Vec::new();
+        let mut split = 0;
+        let mut washed_at = None;
+        for (n, e) in Effect::ALL.into_iter().enumerate() {
+            match made.iter().find(|(m, _)| *m == e) {
+                Some((_, own)) => layers.extend(own),
+                None => {
+                    let of_e = full.stack.layers.iter().filter(|l| l.kind == Some(e));
+                    match e {
+                        Effect::Rain => {
+                            layers.extend(of_e.take(frame.rain.layers as usize));
+                            // The washed runs sum the rainfalls so far: the
+                            // frame's own, kept by the run.
+                            let n = frame.rain.layers;
+                            if let Some((_, w)) = washed.iter().find(|(k, _)| *k == n) {
+                                washed_at = Some(layers.len());
+                                layers.push(w);
+                            }
+                        }
+                        _ => layers.extend(of_e),
+                    }
+                }
+            }
+            if n + 1 == first_own {
+                split = layers.len();
+            }
+        }
+        // The frame's own washed runs are not shared with the next frame.
+        if let Some(at) = washed_at {
+            split = split.min(at);
+        }
+        // The shared lowest layers: add to the last frame's when they go on
+        // from them (more rainfalls), else start again from the photo.
+        let (low, above) = layers.split_at(split);
+        let goes_on = below_layers.len() <= low.len()
+            && below_layers
+                .iter()
+                .zip(low)
+                .all(|(a, b)| std::ptr::eq(*a, *b));
+        if !goes_on {
+            below = Partial::new(&scene.photo);
+            below_layers.clear();
+        }
+        below.add(&low[below_layers.len()..]);
+        below_layers = low.iter().map(|l| *l as *const Layer).collect();
+        let frame = Frame {
+            stack: &full.stack,
+            layers: layers.clone(),
+            below: &below,
+            above: above.to_vec(),
+        };
+        each(i, frame)?;
     }
     Ok(full)
-}
-
-/// The rain's first `n` layers and their stats, and the washed runs after
-/// them when there are any.
-fn first(rain: &Produced, n: u32, washed: Option<&Layer>) -> Produced {
-    let n = n as usize;
-    let mut layers = rain.layers[..n].to_vec();
-    let mut layer_stats = rain.layer_stats[..n].to_vec();
-    if let Some(washed) = washed {
-        layers.push(washed.clone());
-        layer_stats.push(None);
-    }
-    Produced {
-        layers,
-        layer_stats,
-        stats: rain.stats.clone(),
-    }
 }
 
 /// A frame may differ from the last only in the clock and ask for no more
@@ -140,39 +231,72 @@ mod tests {
     use crate::clock::{self, Pins};
     use crate::demo;
 
-    #[test]
-    fn every_frame_is_the_run_at_its_age() {
+    fn frames_equal_runs(scene: &Scene, p: &Preset, years: &[u32]) {
+        let oldest = *years.iter().max().unwrap();
+        let last = clock::at(p, oldest, Pins::none()).unwrap();
+        let frames: Vec<Preset> = years
+            .iter()
+            .map(|&y| clock::at(p, y, Pins::none()).unwrap())
+            .collect();
+        let mut seen = Vec::new();
+        let full = run_frames(scene, &last, &frames, &Progress::none(), &mut |i, f| {
+            let stack = f.stack().composite();
+            assert_eq!(f.composite().as_bytes(), stack.as_bytes(), "frame {i}");
+            seen.push(f.composite());
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(seen.len(), years.len());
+        for ((i, frame), preset) in seen.iter().enumerate().zip(&frames) {
+            let alone = super::super::run(scene, preset, &Progress::none()).unwrap();
+            assert!(
+                frame.as_bytes() == alone.stack.composite().as_bytes(),
+                "frame {i} differs from the run at {} years",
+                years[i]
+            );
+            if years[i] == oldest {
+                assert_eq!(frame.as_bytes(), full.stack.composite().as_bytes());
+            }
+            if years[i] == 0 {
+                assert_eq!(frame.as_bytes(), scene.photo.image().as_bytes());
+            }
+        }
+    }
+
+    fn small() -> (Scene, Preset) {
         let d = demo::facade(120, 90);
         let scene = Scene::new(d.photo, d.region).unwrap();
         let mut p = Preset::default();
         p.rain.droplets = 120;
         p.rain.source_lines = d.source_lines;
-        let years = [0, 2, 5];
-        let last = clock::at(&p, 5, Pins::none()).unwrap();
-        let frames: Vec<Preset> = years
-            .iter()
-            .map(|&y| clock::at(&p, y, Pins::none()).unwrap())
-            .collect();
-        let mut seen = Vec::new();
-        let full = run_frames(&scene, &last, &frames, &Progress::none(), &mut |i, out| {
-            seen.push((i, out.stack.composite()));
-            Ok(())
-        })
-        .unwrap();
-        assert_eq!(seen.len(), 3);
-        for ((i, frame), preset) in seen.iter().zip(&frames) {
-            let alone = super::super::run(&scene, preset, &Progress::none()).unwrap();
-            assert!(
-                frame.as_bytes() == alone.stack.composite().as_bytes(),
-                "frame {i} differs from the run at {} years",
-                years[*i]
-            );
-        }
-        assert_eq!(
-            seen[2].1.as_bytes(),
-            full.stack.composite().as_bytes(),
-            "the last frame is the run"
-        );
-        assert_eq!(seen[0].1.as_bytes(), scene.photo.image().as_bytes());
+        (scene, p)
+    }
+
+    #[test]
+    fn every_frame_is_the_run_at_its_age() {
+        let (scene, p) = small();
+        // In order, out of order (the shared layers start again) and with
+        // dust past the bulk film (the wall at 4 ppi) and the mask's
+        // saturation.
+        frames_equal_runs(&scene, &p, &[0, 2, 5]);
+        frames_equal_runs(&scene, &p, &[4, 1, 4, 3]);
+        let mut dusty = p.clone();
+        dusty.dust.ppi = 4.0;
+        dusty.dust.granule_size = 3.0;
+        frames_equal_runs(&scene, &dusty, &[0, 1, 3, 6, 30]);
+    }
+
+    #[test]
+    fn frames_in_a_wall_plane_are_the_runs_too() {
+        let (scene, p) = small();
+        let (w, h) = scene.size();
+        let quad = [
+            [4.0, 2.0],
+            [w as f32 - 3.0, 6.0],
+            [w as f32 - 1.0, h as f32 - 2.0],
+            [0.0, h as f32 - 5.0],
+        ];
+        let scene = scene.with_quad(Some(quad)).unwrap();
+        frames_equal_runs(&scene, &p, &[0, 3, 5]);
     }
 }

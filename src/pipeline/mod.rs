@@ -27,7 +27,7 @@ use crate::preset::Preset;
 use crate::progress::Progress;
 use crate::stack::Stack;
 
-pub use frames::run_frames;
+pub use frames::{Frame, run_frames};
 pub use report::{GridReport, LayerReport, Report, Size, Timing};
 pub use scene::Scene;
 pub use site::{ASSUMED_WALL_WIDTH_M, Site};
@@ -136,6 +136,39 @@ pub fn run_cached(
     }
 }
 
+/// What every effect of a scene reads besides the photo: the simulation
+/// grid and the luminance and region on it.
+struct Prepared {
+    grid: Grid,
+    luma: crate::field::RowMajor<f32>,
+    region: crate::field::RowMajor<bool>,
+}
+
+impl Prepared {
+    fn new(scene: &Scene, preset: &Preset) -> Result<Prepared> {
+        let (w, h) = scene.size();
+        let mask = scene.region.as_deref();
+        let grid = Grid::new(w, h, mask, preset.sim.max_side)?;
+        let luma = grid.luma(&scene.photo);
+        let region = grid.region(mask);
+        Ok(Prepared { grid, luma, region })
+    }
+
+    /// The effects' shared inputs; `wall` is the scene's region.
+    fn context<'a>(&'a self, scene: &'a Scene, wall: &'a Region<'a>) -> Context<'a> {
+        Context {
+            photo: &scene.photo,
+            grid: &self.grid,
+            luma: &self.luma,
+            region: &self.region,
+            mask: scene.region.as_deref(),
+            wall,
+            normals: scene.normals.as_deref(),
+            site: &scene.site,
+        }
+    }
+}
+
 /// The effects on the scene's own pixels; their outputs go into `cache`
 /// under `made_with`, the preset as the caller gave it.
 fn run_effects(
@@ -148,21 +181,9 @@ fn run_effects(
 ) -> Result<Outcome> {
     let mut clock = Clock::start();
     let (w, h) = scene.size();
-    let mask = scene.region.as_deref();
-    let grid = Grid::new(w, h, mask, preset.sim.max_side)?;
-    let luma = grid.luma(&scene.photo);
-    let region = grid.region(mask);
-    let wall = Region::new(w, h, mask)?;
-    let ctx = Context {
-        photo: &scene.photo,
-        grid: &grid,
-        luma: &luma,
-        region: &region,
-        mask,
-        wall: &wall,
-        normals: scene.normals.as_deref(),
-        site: &scene.site,
-    };
+    let prepared = Prepared::new(scene, preset)?;
+    let wall = Region::new(w, h, scene.region.as_deref())?;
+    let ctx = prepared.context(scene, &wall);
     clock.lap("grid");
     progress.update("prepare", 0.05);
 
@@ -222,6 +243,7 @@ fn run_effects(
         .rain
         .clone()
         .ok_or_else(|| Error::Preset("the rain did not run".into()))?;
+    let grid = prepared.grid;
     let report = Report {
         image: Size {
             width: w,
@@ -267,27 +289,9 @@ fn in_plane(
     valid: &BTreeSet<Effect>,
 ) -> Result<Outcome> {
     let (w, h) = scene.size();
-    let rect = Rectifier::new(quad, (w as u64 * h as u64).saturating_mul(2))?;
     let region = scene.region.as_deref();
-    let mut plane = Scene::new(
-        rect.rectify_photo(&scene.photo),
-        Some(rect.rectify_mask(region, w, h)),
-    )?;
-    if let Some(normals) = &scene.normals {
-        plane = plane.with_normals(rect.rectify_rgb(normals))?;
-    }
-    // The plane keeps the wall's scale; ground, ledges and shelter are the
-    // photo's and are not carried into it (source lines are, below).
-    let (pw, ph) = plane.size();
-    let stretch = (quad_area(quad) / (pw as f32 * ph as f32)).sqrt();
-    plane.site.metres_per_pixel = scene.site.metres_per_pixel * stretch.max(1e-3);
-    let mut plane_preset = preset.clone();
-    for line in &mut plane_preset.rain.source_lines {
-        for p in line.iter_mut() {
-            let (u, v) = rect.photo_to_rect_unbounded(p[0], p[1]);
-            *p = [u, v];
-        }
-    }
+    let (rect, plane) = plane_of(scene, quad)?;
+    let plane_preset = plane_preset(&rect, preset);
     progress.update("rectify", 0.02);
     let out = run_effects(
         &plane,
@@ -325,6 +329,40 @@ fn in_plane(
         rain: out.rain,
         grid: out.grid,
     })
+}
+
+/// The rectifier of `quad` on `scene` and the scene in the wall's plane:
+/// the photo, mask and normal map rectified.
+fn plane_of(scene: &Scene, quad: &Quad) -> Result<(Rectifier, Scene)> {
+    let (w, h) = scene.size();
+    let rect = Rectifier::new(quad, (w as u64 * h as u64).saturating_mul(2))?;
+    let mut plane = Scene::new(
+        rect.rectify_photo(&scene.photo),
+        Some(rect.rectify_mask(scene.region.as_deref(), w, h)),
+    )?;
+    if let Some(normals) = &scene.normals {
+        plane = plane.with_normals(rect.rectify_rgb(normals))?;
+    }
+    // The plane keeps the wall's scale; ground, ledges and shelter are the
+    // photo's and are not carried into it (source lines are, by
+    // `plane_preset`).
+    let (pw, ph) = plane.size();
+    let stretch = (quad_area(quad) / (pw as f32 * ph as f32)).sqrt();
+    plane.site.metres_per_pixel = scene.site.metres_per_pixel * stretch.max(1e-3);
+    Ok((rect, plane))
+}
+
+/// `preset` in the wall plane of `rect`: its source lines (photo pixels)
+/// mapped into it.
+fn plane_preset(rect: &Rectifier, preset: &Preset) -> Preset {
+    let mut plane = preset.clone();
+    for line in &mut plane.rain.source_lines {
+        for p in line.iter_mut() {
+            let (u, v) = rect.photo_to_rect_unbounded(p[0], p[1]);
+            *p = [u, v];
+        }
+    }
+    plane
 }
 
 /// Area of a quad in photo pixels (shoelace formula).

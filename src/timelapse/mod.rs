@@ -4,6 +4,7 @@
 //! the rain is simulated once; each frame equals `grime run --years K`.
 
 pub mod caption;
+mod shrink;
 
 use std::path::{Path, PathBuf};
 
@@ -11,7 +12,6 @@ use image::{DynamicImage, RgbaImage};
 
 use crate::clock::{self, Pins};
 use crate::error::{Error, Result};
-use crate::export;
 use crate::io;
 use crate::pipeline::{self, Outcome, Scene};
 use crate::preset::Preset;
@@ -106,6 +106,16 @@ impl Timelapse {
         })
     }
 
+    /// Peak memory of a run `run_years` old on a `w` x `h` photo with this
+    /// time-lapse ([`io::limits::estimate_timelapse`]).
+    pub fn memory(&self, w: u32, h: u32, run_years: u32) -> u64 {
+        let kept = match self.kind() {
+            Ok(Kind::Folder) | Err(_) => 0,
+            Ok(_) => self.frame_years(run_years).len() as u64,
+        };
+        io::limits::estimate_timelapse(w, h, kept, self.max_side)
+    }
+
     /// The frames' ages for a run `run_years` old.
     pub fn frame_years(&self, run_years: u32) -> Vec<u32> {
         match self.years.is_empty() {
@@ -178,22 +188,23 @@ pub fn run(
         std::fs::create_dir_all(&t.path).map_err(|e| Error::io(&t.path, e))?;
     }
     let mut frames = Vec::new();
-    let out = pipeline::run_frames(scene, preset, &presets, progress, &mut |i, out| {
+    let icc = scene.photo.icc.as_deref();
+    let out = pipeline::run_frames(scene, preset, &presets, progress, &mut |i, frame| {
+        let img = frame.composite();
+        let text = recipe.with_preset(&presets[i]).to_text();
         if kind == Kind::Folder && !t.caption {
-            let text = recipe.with_preset(&presets[i]).to_text();
-            return export::save_with(&out.stack, &t.frame_path(years[i]), Some(&text));
+            // As `export::save_with` writes the stack to a PNG.
+            return io::save_image_with(&img, icc, &t.frame_path(years[i]), Some(&text));
         }
-        let mut img = out.stack.composite();
-        if kind != Kind::Folder {
-            img = shrink(img, t.max_side);
-        }
-        let mut rgba = img.to_rgba8();
+        let mut rgba = match kind {
+            Kind::Folder => img.to_rgba8(),
+            _ => shrink::shrink(&img, t.max_side),
+        };
         if t.caption {
             caption::draw(&mut rgba, years[i]);
         }
         match kind {
             Kind::Folder => {
-                let text = recipe.with_preset(&presets[i]).to_text();
                 let img = DynamicImage::ImageRgba8(rgba);
                 io::save_image_with(&img, None, &t.frame_path(years[i]), Some(&text))
             }
@@ -208,15 +219,6 @@ pub fn run(
         Kind::Gif => write_gif(&t.path, &frames, t.frame_ms).map(|_| out),
         Kind::Apng => write_apng(&t.path, &frames, t.frame_ms, &recipe.to_text()).map(|_| out),
     }
-}
-
-/// `img` with its longest side at most `max_side` (0 = as is).
-fn shrink(img: DynamicImage, max_side: u32) -> DynamicImage {
-    let (w, h) = (img.width(), img.height());
-    if max_side == 0 || w.max(h) <= max_side {
-        return img;
-    }
-    img.resize(max_side, max_side, image::imageops::FilterType::Triangle)
 }
 
 /// Each frame's delay; the last holds longer.
@@ -235,18 +237,36 @@ fn encode_error(path: &Path, e: impl std::fmt::Display) -> Error {
     }
 }
 
-/// An animated GIF, looping.
+/// An animated GIF, looping. The frames' palettes (NeuQuant, speed 10) are
+/// found in parallel; the file is what `image`'s GIF encoder writes.
 fn write_gif(path: &Path, frames: &[RgbaImage], frame_ms: u16) -> Result<()> {
-    use image::codecs::gif::{GifEncoder, Repeat};
+    use rayon::prelude::*;
+    let Some(first) = frames.first() else {
+        return Err(encode_error(path, "no frames"));
+    };
+    let (Ok(w), Ok(h)) = (u16::try_from(first.width()), u16::try_from(first.height())) else {
+        return Err(encode_error(
+            path,
+            "a GIF frame is at most 65535 pixels wide",
+        ));
+    };
+    let quantised: Vec<gif::Frame> = frames
+        .par_iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let mut rgba = f.as_raw().clone();
+            let mut frame = gif::Frame::from_rgba_speed(w, h, &mut rgba, 10);
+            frame.delay = delay(i, frames.len(), frame_ms) / 10;
+            frame.dispose = gif::DisposalMethod::Background;
+            frame
+        })
+        .collect();
     io::write_atomic(path, |out| {
-        let mut gif = GifEncoder::new_with_speed(out, 10);
-        gif.set_repeat(Repeat::Infinite)
+        let mut gif = gif::Encoder::new(out, w, h, &[]).map_err(|e| encode_error(path, e))?;
+        gif.set_repeat(gif::Repeat::Infinite)
             .map_err(|e| encode_error(path, e))?;
-        for (i, f) in frames.iter().enumerate() {
-            let ms = delay(i, frames.len(), frame_ms) as u32;
-            let frame =
-                image::Frame::from_parts(f.clone(), 0, 0, image::Delay::from_numer_denom_ms(ms, 1));
-            gif.encode_frame(frame).map_err(|e| encode_error(path, e))?;
+        for frame in &quantised {
+            gif.write_frame(frame).map_err(|e| encode_error(path, e))?;
         }
         Ok(())
     })

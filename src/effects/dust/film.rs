@@ -30,7 +30,7 @@ const BATCH: usize = 64;
 /// would be simpler, but a locked read-modify-write per particle serialises
 /// the cache misses of random pixels and ran 5x slower.) A count saturates at
 /// 65535 particles of one grey in one pixel, far beyond where RO reaches 1.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Film {
     width: u32,
     counts: Vec<u16>,
@@ -132,11 +132,17 @@ impl Film {
         Ok(placed)
     }
 
-    /// Lands `n` particles at once: each wall pixel and grey gets a
-    /// Poisson(n / (wall pixels x greys)) count, the limit of `n` uniform
-    /// draws (Santos sec. 5.2) when `n` is many per pixel. Costs one draw per
-    /// pixel and grey however large `n` is. Rows use their own streams
-    /// (`key`, row), so the result does not depend on the thread count.
+    /// The film after `n` particles in all, drawn per pixel: each wall pixel
+    /// and grey gets a Poisson(n / (wall pixels x greys)) count, the limit
+    /// of `n` uniform draws (Santos sec. 5.2) when `n` is many per pixel;
+    /// the counts it held before are replaced. Costs one draw per pixel and
+    /// grey however large `n` is.
+    ///
+    /// Each count is the inverse of the Poisson CDF at one uniform number
+    /// that belongs to its pixel and grey for good (rows use their own
+    /// streams, `key` and the row, so nothing depends on the thread count):
+    /// the film after `n` particles is then the same whether it is drawn at
+    /// once or after smaller steps, and a larger `n` never lowers a count.
     /// Returns how many landed.
     pub(crate) fn place_bulk(
         &mut self,
@@ -148,10 +154,7 @@ impl Film {
     ) -> Result<u64> {
         progress.check()?;
         let area = region.area().max(1);
-        let lambda = n as f64 / (area as f64 * COLORS as f64);
-        let Ok(poisson) = rand_distr::Poisson::new(lambda) else {
-            return Ok(0);
-        };
+        let poisson = Inverse::new(n as f64 / (area as f64 * COLORS as f64));
         let row_len = self.width as usize * COLORS;
         Ok(self
             .counts
@@ -162,13 +165,12 @@ impl Film {
                 let mut landed = 0u64;
                 for (x, px) in row.chunks_exact_mut(COLORS).enumerate() {
                     if !region.contains(x as f32 + 0.5, y as f32 + 0.5) {
+                        px.fill(0);
                         continue;
                     }
                     for c in px {
-                        let k: f64 = rand_distr::Distribution::sample(&poisson, &mut rng);
-                        let k = k.min(u16::MAX as f64) as u16;
-                        *c = c.saturating_add(k);
-                        landed += k as u64;
+                        *c = poisson.count(rng.random::<f64>());
+                        landed += *c as u64;
                     }
                 }
                 landed
@@ -187,6 +189,61 @@ impl Film {
     pub fn pixel(&self, x: u32, y: u32, look: &Look) -> (u8, f32) {
         let i = self.index(x, y);
         look.shade(&self.counts[i..i + COLORS])
+    }
+}
+
+/// The Poisson distribution drawn by inversion: its CDF tabled over the
+/// counts that matter (the mass left out is below 1e-29), the counts
+/// saturating at `u16::MAX` as the film's counters do.
+struct Inverse {
+    /// The first count in the table.
+    lo: u64,
+    /// P(X <= lo + i).
+    cdf: Vec<f64>,
+}
+
+impl Inverse {
+    fn new(lambda: f64) -> Inverse {
+        let lambda = lambda.max(0.0);
+        let max = u16::MAX as f64;
+        let spread = 12.0 * lambda.sqrt() + 16.0;
+        if lambda - spread >= max {
+            return Inverse {
+                lo: u16::MAX as u64,
+                cdf: vec![1.0],
+            };
+        }
+        let mode = lambda.floor() as u64;
+        let lo = (lambda - spread).max(0.0) as u64;
+        let hi = (lambda + spread) as u64;
+        // The probabilities relative to the mode's, by the recurrence
+        // p(k + 1) = p(k) lambda / (k + 1) (no factorial, no exp), then
+        // normalised.
+        let mut pmf = vec![0.0f64; (hi - lo + 1) as usize];
+        let at = |k: u64| (k - lo) as usize;
+        pmf[at(mode)] = 1.0;
+        for k in mode + 1..=hi {
+            pmf[at(k)] = pmf[at(k - 1)] * lambda / k as f64;
+        }
+        for k in (lo..mode).rev() {
+            pmf[at(k)] = pmf[at(k + 1)] * (k + 1) as f64 / lambda;
+        }
+        let total: f64 = pmf.iter().sum();
+        let mut sum = 0.0;
+        let cdf = pmf
+            .iter()
+            .map(|p| {
+                sum += p;
+                sum / total
+            })
+            .collect();
+        Inverse { lo, cdf }
+    }
+
+    /// The count at uniform `u` in [0, 1): the least k with P(X <= k) > u.
+    fn count(&self, u: f64) -> u16 {
+        let i = self.cdf.partition_point(|&c| c <= u);
+        (self.lo + i.min(self.cdf.len() - 1) as u64).min(u16::MAX as u64) as u16
     }
 }
 
@@ -261,5 +318,60 @@ mod tests {
             .unwrap();
         assert_eq!(all.counts, steps.counts);
         assert!(early.iter().zip(&steps.counts).all(|(a, b)| b >= a));
+    }
+
+    #[test]
+    fn bulk_counts_are_poisson_and_the_same_in_one_step_or_several() {
+        let region = Region::new(200, 150, None).unwrap();
+        let px = 200.0 * 150.0 * COLORS as f64;
+        let bulk = |steps: &[u64]| {
+            let mut f = Film::new(200, 150);
+            let mut landed = 0;
+            for &n in steps {
+                landed = f
+                    .place_bulk(&region, n, 5, 1 << 32, &Progress::none())
+                    .unwrap();
+            }
+            (f, landed)
+        };
+        let n = (7.5 * px) as u64;
+        let (once, landed) = bulk(&[n]);
+        let (steps, _) = bulk(&[n / 3, n / 2, n]);
+        assert_eq!(once.counts, steps.counts);
+        assert_eq!(landed, once.total());
+        // Poisson(7.5): mean and variance 7.5.
+        let mean = landed as f64 / px;
+        let var = once
+            .counts
+            .iter()
+            .map(|&c| (c as f64 - mean).powi(2))
+            .sum::<f64>()
+            / px;
+        assert!((mean - 7.5).abs() < 0.05, "mean {mean}");
+        assert!((var - 7.5).abs() < 0.2, "variance {var}");
+        // More particles never lower a count.
+        let (more, _) = bulk(&[2 * n]);
+        assert!(once.counts.iter().zip(&more.counts).all(|(a, b)| b >= a));
+        // Far past saturation every count is full.
+        let (full, _) = bulk(&[u64::MAX / 2]);
+        assert!(full.counts.iter().all(|&c| c == u16::MAX));
+    }
+
+    #[test]
+    fn inverse_poisson_matches_its_probabilities() {
+        // P(X = 0) = e^-2, P(X <= 1) = 3 e^-2 for lambda = 2.
+        let p = Inverse::new(2.0);
+        let e = (-2.0f64).exp();
+        assert_eq!(p.count(e * 0.999), 0);
+        assert_eq!(p.count(e * 1.001), 1);
+        assert_eq!(p.count(3.0 * e * 1.001), 2);
+        assert_eq!(Inverse::new(0.0).count(0.999), 0);
+        assert_eq!(Inverse::new(1e6).count(0.5), u16::MAX, "saturated");
+        let mid = Inverse::new(10_000.0);
+        assert!((mid.count(0.5) as i64 - 10_000).abs() <= 1);
+        assert!(
+            (mid.count(0.841_344_7) as i64 - 10_100).abs() <= 2,
+            "one sigma"
+        );
     }
 }

@@ -183,6 +183,20 @@ pub struct Mask {
     bits: Vec<AtomicBool>,
 }
 
+impl Clone for Mask {
+    fn clone(&self) -> Mask {
+        Mask {
+            width: self.width,
+            height: self.height,
+            bits: self
+                .bits
+                .par_iter()
+                .map(|b| AtomicBool::new(b.load(Ordering::Relaxed)))
+                .collect(),
+        }
+    }
+}
+
 impl Mask {
     /// An empty mask.
     pub fn new(width: u32, height: u32) -> Mask {

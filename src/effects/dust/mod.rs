@@ -16,10 +16,12 @@
 //! incremental, and day 200 holds exactly day 100's particles plus those of
 //! days 101-200. Every day's particles come from their own random streams,
 //! in fixed-size chunks, so the result is byte-identical at any thread count.
-//! Past [`BULK_FILM`] new particles per wall pixel the film is drawn per
-//! pixel and past [`SATURATED_MASK`] elements per pixel the granule mask is
-//! full: such a step costs the same for a year or a century, and equals the
-//! same days reached in smaller steps in distribution (not byte for byte).
+//! Past [`BULK_FILM`] particles per wall pixel the film is drawn per pixel
+//! (from one uniform number per pixel and grey, through the inverse Poisson
+//! CDF) and past [`SATURATED_MASK`] elements per pixel the granule mask is
+//! full: such a day costs the same after a year or a century. Both are
+//! reached the same way in one step or several, so a state advanced frame
+//! by frame (a time-lapse) equals a state advanced at once, byte for byte.
 
 pub mod film;
 pub mod granules;
@@ -117,10 +119,9 @@ pub(crate) fn tasks(segments: &[Segment], area: f64, from: u32, to: u32) -> Vec<
     out
 }
 
-/// Above this many new fine particles per wall pixel in one
-/// [`DustState::advance_to`], the film's counts are drawn per pixel
-/// ([`film::Film::place_bulk`]) instead of particle by particle, so the cost
-/// stops growing with the days (issue 13: `dust.days = 36500` with
+/// Above this many fine particles per wall pixel in all, the film's counts
+/// are drawn per pixel ([`film::Film::place_bulk`]) instead of particle by
+/// particle, so the cost stops growing with the days (issue 13: `dust.days = 36500` with
 /// `dust.ppi = 1` ran 75 minutes). The default preset places 0.04 per pixel.
 pub const BULK_FILM: u64 = 16;
 
@@ -158,7 +159,7 @@ pub fn at_scale(p: &DustParams, metres_per_pixel: f32) -> DustParams {
     }
 }
 
-/// Random-stream keys of bulk film draws: above every day number.
+/// Random-stream key of the bulk film's draws: above every day number.
 const BULK_KEY: u64 = 1 << 32;
 
 /// Cuts `tasks` (in order) to at most `max` elements; returns how many
@@ -200,12 +201,14 @@ pub struct DustStats {
 }
 
 /// Dust accumulated up to some day: the film's particle counts and the
-/// granularity mask. Advance it day by day; render it at any time.
-#[derive(Debug)]
-pub struct DustState<'r> {
-    region: &'r Region<'r>,
+/// granularity mask. Advance it day by day; render it at any time. It is
+/// made for one region: pass the same one to every call.
+#[derive(Debug, Clone)]
+pub struct DustState {
     seed: u64,
     area_in2: f64,
+    /// Wall pixels of the region.
+    wall: u64,
     film_rate: Vec<Segment>,
     mask_rate: Vec<Segment>,
     /// Fine particle counts (eqs. 2-3).
@@ -213,15 +216,19 @@ pub struct DustState<'r> {
     /// Coarse elements (eq. 6).
     pub mask: granules::Mask,
     day: u32,
+    /// Coarse elements drawn so far: arcs, clumps, hairs.
+    drawn: [u64; 3],
+    /// Coarse elements counted but not drawn (past [`SATURATED_MASK`]).
+    skipped: u64,
     stats: DustStats,
 }
 
-impl<'r> DustState<'r> {
+impl DustState {
     /// Clean wall at day 0.
     ///
     /// # Errors
     /// [`Error::OutOfRange`] for a non-positive `ppi`.
-    pub fn new(region: &'r Region<'r>, p: &DustParams, seed: u64) -> Result<DustState<'r>> {
+    pub fn new(region: &Region, p: &DustParams, seed: u64) -> Result<DustState> {
         if !(p.ppi.is_finite() && p.ppi > 0.0) {
             return Err(Error::OutOfRange {
                 field: "dust.ppi".into(),
@@ -232,14 +239,16 @@ impl<'r> DustState<'r> {
         let (film_rate, mask_rate) = p.segments();
         let area_in2 = region.area() as f64 / (p.ppi * p.ppi);
         Ok(DustState {
-            region,
             seed,
             area_in2,
+            wall: region.area(),
             film_rate,
             mask_rate,
             film: film::Film::new(region.width(), region.height()),
             mask: granules::Mask::new(region.width(), region.height()),
             day: 0,
+            drawn: [0; 3],
+            skipped: 0,
             stats: DustStats {
                 area_in2,
                 ..DustStats::default()
@@ -252,56 +261,69 @@ impl<'r> DustState<'r> {
         self.day
     }
 
-    /// Adds the particles and elements of days `day()+1 ..= day`. Going back
-    /// in time is not possible (particles never leave); such a call does
-    /// nothing.
+    /// Adds the particles and elements of days `day()+1 ..= day` on
+    /// `region` (the state's). Going back in time is not possible
+    /// (particles never leave); such a call does nothing. Any steps to a day
+    /// give the same state as one step.
     ///
     /// # Errors
     /// [`Error::Cancelled`] when the progress's cancel flag is set.
-    pub fn advance_to(&mut self, day: u32, p: &DustParams, progress: &Progress) -> Result<()> {
+    pub fn advance_to(
+        &mut self,
+        region: &Region,
+        day: u32,
+        p: &DustParams,
+        progress: &Progress,
+    ) -> Result<()> {
         if day <= self.day {
             return Ok(());
         }
-        let wall = self.region.area();
-        let film_n = total(&self.film_rate, self.area_in2, day)
-            - total(&self.film_rate, self.area_in2, self.day);
-        self.stats.film_particles += if film_n > BULK_FILM * wall {
-            let key = BULK_KEY | day as u64;
-            self.film
-                .place_bulk(self.region, film_n, self.seed, key, progress)?
+        let film_total = total(&self.film_rate, self.area_in2, day);
+        if film_total > BULK_FILM * self.wall {
+            // The whole film of `day` at once, whatever the steps before.
+            self.stats.film_particles = self
+                .film
+                .place_bulk(region, film_total, self.seed, BULK_KEY, progress)?;
         } else {
             let film_tasks = tasks(&self.film_rate, self.area_in2, self.day + 1, day);
-            self.film
-                .place(self.region, &film_tasks, self.seed, progress)?
-        };
+            self.stats.film_particles +=
+                self.film.place(region, &film_tasks, self.seed, progress)?;
+        }
         progress.update("dust", 0.5);
         let looks = granules::Looks::new(p);
         let mut mask_tasks = tasks(&self.mask_rate, self.area_in2, self.day + 1, day);
         let limit = match p.granule_size < MIN_GRANULE_PX {
             true => 0,
-            false => SATURATED_MASK * wall,
+            false => SATURATED_MASK * self.wall,
         };
-        let skipped = saturate(&mut mask_tasks, limit);
-        let [mut arcs, mut clumps, mut hairs] =
-            self.mask
-                .place(self.region, &mask_tasks, &looks, self.seed, progress)?;
+        // The first `limit` elements of all days are drawn, in day order.
+        let room = limit.saturating_sub(self.drawn.iter().sum());
+        self.skipped += saturate(&mut mask_tasks, room);
+        let drawn = self
+            .mask
+            .place(region, &mask_tasks, &looks, self.seed, progress)?;
+        for (total, new) in self.drawn.iter_mut().zip(drawn) {
+            *total += new;
+        }
         // Elements past saturation change no pixel; count them by share.
-        let drawn = (arcs + clumps + hairs).max(1) as f64;
-        let share = |k: u64| (skipped as f64 * k as f64 / drawn).round() as u64;
+        let [mut arcs, mut clumps, mut hairs] = self.drawn;
+        let all = (arcs + clumps + hairs).max(1) as f64;
+        let share = |k: u64| (self.skipped as f64 * k as f64 / all).round() as u64;
         let (a, c) = (share(arcs), share(clumps));
         arcs += a;
         clumps += c;
-        hairs += skipped.saturating_sub(a + c);
-        self.stats.arcs += arcs;
-        self.stats.clumps += clumps;
-        self.stats.hairs += hairs;
-        self.stats.granules += arcs + clumps + hairs;
+        hairs += self.skipped.saturating_sub(a + c);
+        self.stats.arcs = arcs;
+        self.stats.clumps = clumps;
+        self.stats.hairs = hairs;
+        self.stats.granules = arcs + clumps + hairs;
         self.day = day;
         self.stats.days = day;
         Ok(())
     }
 
-    /// Renders the film and granules layers (eqs. 2-11) for the current day.
+    /// Renders the film and granules layers (eqs. 2-11) of `region` (the
+    /// state's) for the current day.
     ///
     /// `normals`, if given, is a photo-sized tangent-space normal map (see
     /// [`shade`]). Returns the film (straight-alpha RGBA), the granules'
@@ -311,10 +333,11 @@ impl<'r> DustState<'r> {
     /// [`Error::NormalMapSize`] for a normal map of the wrong size.
     pub fn render(
         &self,
+        region: &Region,
         p: &DustParams,
         normals: Option<&RgbImage>,
     ) -> Result<(RgbaImage, GrayImage, DustStats)> {
-        let (w, h) = (self.region.width(), self.region.height());
+        let (w, h) = (region.width(), region.height());
         let shading = shade::Shading::new(p.theta_v, p.theta_i, normals, w, h)?;
         let look = film::Look::new(p);
         let mut film_img = RgbaImage::new(w, h);
@@ -327,7 +350,7 @@ impl<'r> DustState<'r> {
                 let y = y as u32;
                 let mut factors = vec![shade::Factors::default(); w as usize];
                 shading.row(y, &mut factors);
-                let mask = self.region.mask_row(y);
+                let mask = region.mask_row(y);
                 let counts = self.film.row(y).chunks_exact(film::COLORS);
                 let (mut f_px, mut g_px) = (0u64, 0u64);
                 for (x, (counts, covered)) in counts.zip(self.mask.row(y)).enumerate() {
@@ -366,7 +389,7 @@ impl<'r> DustState<'r> {
             })
             .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
         let mut stats = self.stats.clone();
-        let area = self.region.area().max(1) as f64;
+        let area = region.area().max(1) as f64;
         stats.film_coverage = film_px as f64 / area;
         stats.granule_coverage = gran_px as f64 / area;
         Ok((film_img, gran_img, stats))
@@ -392,9 +415,9 @@ pub fn accumulate(
     progress: &Progress,
 ) -> Result<(RgbaImage, GrayImage, DustStats)> {
     let mut state = DustState::new(region, p, seed)?;
-    state.advance_to(p.days, p, progress)?;
+    state.advance_to(region, p.days, p, progress)?;
     progress.check()?;
-    let out = state.render(p, normals)?;
+    let out = state.render(region, p, normals)?;
     progress.update("dust", 1.0);
     Ok(out)
 }
@@ -455,6 +478,49 @@ mod tests {
         );
     }
 
+    /// A time-lapse advances one state frame by frame: every step must give
+    /// the state a run to that day makes, across the bulk film and the
+    /// saturated mask.
+    #[test]
+    fn steps_to_a_day_equal_one_step() {
+        let region = Region::new(64, 48, None).unwrap();
+        let p = DustParams {
+            ppi: 3.0,
+            ..DustParams::default()
+        };
+        let wall = region.area();
+        let (film_rate, mask_rate) = p.segments();
+        let area = wall as f64 / 9.0;
+        let first_bulk = (1..)
+            .find(|&d| total(&film_rate, area, d) > BULK_FILM * wall)
+            .unwrap();
+        let full_mask = (1..)
+            .find(|&d| total(&mask_rate, area, d) > SATURATED_MASK * wall)
+            .unwrap();
+        let mut stepped = DustState::new(&region, &p, 3).unwrap();
+        let none = Progress::none();
+        for day in [
+            1,
+            9,
+            first_bulk - 1,
+            first_bulk,
+            first_bulk + 7,
+            full_mask - 1,
+            full_mask + 30,
+        ] {
+            stepped.advance_to(&region, day, &p, &none).unwrap();
+            let mut once = DustState::new(&region, &p, 3).unwrap();
+            once.advance_to(&region, day, &p, &none).unwrap();
+            let a = stepped.render(&region, &p, None).unwrap();
+            let b = once.render(&region, &p, None).unwrap();
+            assert_eq!(a.0, b.0, "film at day {day}");
+            assert_eq!(a.1, b.1, "granules at day {day}");
+            assert_eq!(a.2, b.2, "numbers at day {day}");
+            assert!((0..48).all(|y| stepped.film.row(y) == once.film.row(y)));
+        }
+        assert!(stepped.skipped > 0, "the mask saturated");
+    }
+
     /// Issue 13: a century of dust at 1 ppi drew every particle one by one
     /// (75 minutes on a 0.2 MP photo; about 40 s on this 64 x 64 wall).
     #[test]
@@ -467,7 +533,9 @@ mod tests {
         };
         let t = std::time::Instant::now();
         let mut state = DustState::new(&region, &p, 7).unwrap();
-        state.advance_to(p.days, &p, &Progress::none()).unwrap();
+        state
+            .advance_to(&region, p.days, &p, &Progress::none())
+            .unwrap();
         let secs = t.elapsed().as_secs_f64();
         let expected = total(&state.film_rate, state.area_in2, p.days) as f64;
         let got = state.stats.film_particles as f64;
