@@ -22,7 +22,7 @@ mod features;
 mod ledges;
 mod overlay;
 mod scale;
-mod shelter;
+pub mod shelter;
 pub mod synthetic;
 mod wall;
 

@@ -9,7 +9,7 @@ use super::features::Features;
 use super::{Ledge, LedgeKind};
 
 /// How far below a ledge its shelter reaches, in image heights (1/e).
-fn reach(kind: LedgeKind) -> f32 {
+pub fn reach(kind: LedgeKind) -> f32 {
     match kind {
         LedgeKind::RoofLine | LedgeKind::Cornice | LedgeKind::Coping => 0.04,
         LedgeKind::Balcony => 0.03,

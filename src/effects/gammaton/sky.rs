@@ -22,7 +22,7 @@
 //! water a ledge catches runs off its drip edge; the thesis's sky source
 //! shoots rays at the scene and the first surface hit takes the drop].
 
-use crate::analysis::LedgeKind;
+use crate::analysis::{LedgeKind, shelter};
 
 /// Steepest rain, degrees from vertical (a drop's angle is clamped to it).
 pub const MAX_ANGLE: f32 = 85.0;
@@ -30,11 +30,7 @@ pub const MAX_ANGLE: f32 = 85.0;
 /// How far a ledge of `kind` shelters the wall, relative to a cornice
 /// [choice: the ratios of the scene analysis's shelter reach by kind].
 pub fn relative_reach(kind: LedgeKind) -> f32 {
-    match kind {
-        LedgeKind::RoofLine | LedgeKind::Cornice | LedgeKind::Coping => 1.0,
-        LedgeKind::Balcony => 0.75,
-        LedgeKind::Sill | LedgeKind::WindowHead | LedgeKind::StringCourse => 0.3,
-    }
+    shelter::reach(kind) / shelter::reach(LedgeKind::Cornice)
 }
 
 /// A ledge that shelters the wall below it from the sky's γ-tons.
