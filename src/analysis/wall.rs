@@ -50,6 +50,9 @@ const SKY_TEXTURE: f32 = 0.05;
 /// in the upper half.
 const CLEAR_BLUE: f32 = 0.25;
 
+/// Vegetation is greener than this (excess green over the sum, ExG).
+const GREEN_EXCESS: f32 = 0.1;
+
 /// Below this share of non-wall pixels the photo is a close-up: all wall.
 const CLOSE_UP: f32 = 0.02;
 
@@ -58,6 +61,50 @@ pub fn classify(f: &Features) -> Vec<Class> {
     let (w, h) = (f.w, f.h);
     let n = w * h;
     let mut class = vec![Class::Wall; n];
+    // The sky's fills run on one thread: the paving joints go beside them.
+    let (sky, steps) = rayon::join(|| sky(f), || unjoint(f, (h as f32 * JOINT_BAND) as usize));
+    for i in 0..n {
+        if sky[i] {
+            class[i] = Class::Sky;
+        }
+    }
+    // Bare branches: thin structure with sky all around (a wall's edge
+    // has sky on one side only, at most half its neighbourhood).
+    let sky_share: Vec<f32> = sky.iter().map(|&s| s as u8 as f32).collect();
+    let near = box_mean(&sky_share, w, h, w.max(h) / 100 + 1);
+    for i in 0..n {
+        if !sky[i] && near[i] > BRANCHES {
+            class[i] = Class::Vegetation;
+        }
+    }
+    // Vegetation: green excess, smoothed to a majority vote.
+    let veg_cand: Vec<f32> = (0..n)
+        .map(|i| {
+            let [r, g, b] = f.rgb_at(i);
+            let exg = (2.0 * g - r - b) / (r + g + b + 0.05);
+            (exg > GREEN_EXCESS && g > r && g > b * 0.9) as u8 as f32
+        })
+        .collect();
+    let veg = box_mean(&veg_cand, w, h, (w.max(h) / 200).max(1));
+    for i in 0..n {
+        if veg[i] > 0.5 && class[i] == Class::Wall {
+            class[i] = Class::Vegetation;
+        }
+    }
+    ground(f, &steps, &mut class);
+    glass(f, &mut class);
+    let other = class.iter().filter(|&&c| c != Class::Wall).count();
+    if (other as f32) < CLOSE_UP * n as f32 {
+        class.iter_mut().for_each(|c| *c = Class::Wall);
+    }
+    class
+}
+
+/// Sky: bright, smooth, bluish or white-grey, connected to the top edge
+/// (or to clear blue in the upper half).
+fn sky(f: &Features) -> Vec<bool> {
+    let (w, h) = (f.w, f.h);
+    let n = w * h;
     let sat = |i: usize| {
         let [r, g, b] = f.rgb_at(i);
         let mx = r.max(g).max(b);
@@ -67,7 +114,6 @@ pub fn classify(f: &Features) -> Vec<Class> {
             (mx - r.min(g).min(b)) / mx
         }
     };
-    // Sky: bright, smooth, bluish or white-grey, connected to the top edge.
     let sky_colour: Vec<bool> = (0..n)
         .map(|i| {
             let [r, g, b] = f.rgb_at(i);
@@ -93,42 +139,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
     let core = flood(&sky_cand, w, h, seeds, smooth_step);
     // Then up to the roof edge, where the texture window already sees the roof.
     let seeds = (0..n).filter(|&i| core[i]).collect();
-    let sky = flood(&sky_colour, w, h, seeds, smooth_step);
-    for i in 0..n {
-        if sky[i] {
-            class[i] = Class::Sky;
-        }
-    }
-    // Bare branches: thin structure with sky all around (a wall's edge
-    // has sky on one side only, at most half its neighbourhood).
-    let sky_share: Vec<f32> = sky.iter().map(|&s| s as u8 as f32).collect();
-    let near = box_mean(&sky_share, w, h, w.max(h) / 100 + 1);
-    for i in 0..n {
-        if !sky[i] && near[i] > BRANCHES {
-            class[i] = Class::Vegetation;
-        }
-    }
-    // Vegetation: green excess, smoothed to a majority vote.
-    let veg_cand: Vec<f32> = (0..n)
-        .map(|i| {
-            let [r, g, b] = f.rgb_at(i);
-            let exg = (2.0 * g - r - b) / (r + g + b + 0.05);
-            (exg > 0.1 && g > r && g > b * 0.9) as u8 as f32
-        })
-        .collect();
-    let veg = box_mean(&veg_cand, w, h, (w.max(h) / 200).max(1));
-    for i in 0..n {
-        if veg[i] > 0.5 && class[i] == Class::Wall {
-            class[i] = Class::Vegetation;
-        }
-    }
-    ground(f, &mut class);
-    glass(f, &mut class);
-    let other = class.iter().filter(|&&c| c != Class::Wall).count();
-    if (other as f32) < CLOSE_UP * n as f32 {
-        class.iter_mut().for_each(|c| *c = Class::Wall);
-    }
-    class
+    flood(&sky_colour, w, h, seeds, smooth_step)
 }
 
 /// Pixels of `cand` 4-connected to the seeds (indices into the row-major
@@ -168,15 +179,12 @@ fn flood(
 /// above it, and all ground when it nearly everywhere stops at the 45%
 /// limit (a close-up's texture, a facade down to the photo's edge, reach
 /// the bottom too).
-fn ground(f: &Features, class: &mut [Class]) {
+fn ground(f: &Features, steps: &[[f32; 3]], class: &mut [Class]) {
     let (w, h) = (f.w, f.h);
     let r = (w.max(h) / 150).max(1);
     let smooth: Vec<Vec<f32>> = f.rgb.iter().map(|p| box_mean(p, w, h, r)).collect();
     let at = |i: usize| [smooth[0][i], smooth[1][i], smooth[2][i]];
     let top = h * 45 / 100;
-    // The colour steps the fill may not cross: paving joints removed in
-    // the bottom band.
-    let steps = unjoint(f, (h as f32 * JOINT_BAND) as usize);
     let basic: Vec<bool> = (0..w * h)
         .map(|i| {
             let c = at(i);
@@ -275,17 +283,13 @@ fn unjoint(f: &Features, from: usize) -> Vec<[f32; 3]> {
     let from = from.min(h);
     // Row medians from two rows above `from`, for the column medians below it.
     let y0 = from.saturating_sub(2);
-    let med5 = |mut v: [f32; 5]| {
-        v.sort_by(f32::total_cmp);
-        v[2]
-    };
     for c in 0..3 {
         let p = &f.rgb[c];
         let mut rows = vec![0f32; (h - y0) * w];
         rows.par_chunks_mut(w).enumerate().for_each(|(k, row)| {
             let line = &p[(y0 + k) * w..(y0 + k + 1) * w];
             for (x, o) in row.iter_mut().enumerate() {
-                *o = med5(std::array::from_fn(|d| {
+                *o = median5(std::array::from_fn(|d| {
                     line[(x + d).saturating_sub(2).min(w - 1)]
                 }));
             }
@@ -296,13 +300,25 @@ fn unjoint(f: &Features, from: usize) -> Vec<[f32; 3]> {
             .for_each(|(k, row)| {
                 let y = from + k;
                 for (x, o) in row.iter_mut().enumerate() {
-                    o[c] = med5(std::array::from_fn(|d| {
+                    o[c] = median5(std::array::from_fn(|d| {
                         rows[((y + d).saturating_sub(2).min(h - 1) - y0) * w + x]
                     }));
                 }
             });
     }
     out
+}
+
+/// Median of five by min and max (colours in 0..1, no NaN): the smaller of
+/// the two pairs' minima and the larger of their maxima are not the median;
+/// it is the median of the three left.
+fn median5(v: [f32; 5]) -> f32 {
+    let (lo, hi) = (
+        v[0].min(v[1]).max(v[2].min(v[3])),
+        v[0].max(v[1]).min(v[2].max(v[3])),
+    );
+    let (x, y) = (lo.min(hi), lo.max(hi));
+    x.max(y.min(v[4]))
 }
 
 /// Paving joints are crossed in this bottom band (from this share of the
@@ -554,5 +570,19 @@ mod tests {
             class[121 * 200..].iter().all(|&c| c != Class::Vegetation),
             "the wall below is no branch"
         );
+    }
+
+    #[test]
+    fn median5_is_the_middle_of_the_sorted_five() {
+        let mut seed = 7u32;
+        for _ in 0..2000 {
+            let v: [f32; 5] = std::array::from_fn(|_| {
+                seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                (seed >> 24) as f32 / 16.0
+            });
+            let mut s = v;
+            s.sort_by(f32::total_cmp);
+            assert_eq!(median5(v), s[2], "{v:?}");
+        }
     }
 }
