@@ -69,12 +69,15 @@ pub fn classify(f: &Features) -> Vec<Class> {
         }
     }
     // Bare branches: thin structure with sky all around (a wall's edge
-    // has sky on one side only, at most half its neighbourhood).
-    let sky_share: Vec<f32> = sky.iter().map(|&s| s as u8 as f32).collect();
-    let near = box_mean(&sky_share, w, h, w.max(h) / 100 + 1);
-    for i in 0..n {
-        if !sky[i] && near[i] > BRANCHES {
-            class[i] = Class::Vegetation;
+    // has sky on one side only, at most half its neighbourhood). In a
+    // thumbnail the neighbourhood is a few pixels: a wall's jagged edge.
+    if w.max(h) >= BRANCHES_MIN_SIDE {
+        let sky_share: Vec<f32> = sky.iter().map(|&s| s as u8 as f32).collect();
+        let near = box_mean(&sky_share, w, h, w.max(h) / 100 + 1);
+        for i in 0..n {
+            if !sky[i] && near[i] > BRANCHES {
+                class[i] = Class::Vegetation;
+            }
         }
     }
     // Vegetation: green excess, smoothed to a majority vote.
@@ -330,6 +333,8 @@ const LIKE_ABOVE: f32 = 0.03;
 /// A pixel that is not sky with more than this share of sky within 1% of
 /// the photo's size around it is a bare branch (vegetation).
 const BRANCHES: f32 = 0.45;
+/// Bare branches are looked for in photos at least this long (pixels).
+const BRANCHES_MIN_SIDE: usize = 200;
 
 /// Ground is less saturated than this.
 const GROUND_SATURATION: f32 = 0.45;
@@ -584,5 +589,17 @@ mod tests {
             s.sort_by(f32::total_cmp);
             assert_eq!(median5(v), s[2], "{v:?}");
         }
+    }
+
+    #[test]
+    fn a_thumbnail_keeps_its_wall_beside_the_sky() {
+        // 40x30, blue over a greener bottom (the batch test's 16-bit
+        // gradient): the few wall pixels next to the sky are not branches.
+        let img = image::RgbImage::from_fn(40, 30, |x, y| {
+            image::Rgb([(x * 1000 / 257) as u8, (y * 2000 / 257) as u8, 156])
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 40);
+        let class = classify(&f);
+        assert!(class.iter().any(|&c| c == Class::Wall), "{class:?}");
     }
 }
