@@ -606,10 +606,34 @@ fn the_say_box_fills_the_sliders_and_shows_what_it_set() {
 fn auto_region_and_detect_ledges_come_from_the_scene_analysis() {
     let mut h = facade_with(quick_preset());
     let sample = h.state().document().unwrap().mask.clone();
+    let proxy_site = |h: &Harness<'_, GrimeApp>| {
+        let l = h.state().controller().loaded().unwrap();
+        let job = l.proxy.job(&Preset::default(), None, &Default::default());
+        (l.proxy.photo.width(), job.unwrap().scene.site)
+    };
+    let (pw, assumed) = proxy_site(&h);
+    assert_eq!(
+        assumed,
+        grime::pipeline::Site::assumed(pw),
+        "before any analysis the preview assumes a 10 m wall"
+    );
     click(&mut h, "Clear");
     assert_eq!(mask_count(&h, 1), 0);
     click(&mut h, "Auto region");
     settle(&mut h);
+    // The preview (and an export) now run with the site the analysis saw:
+    // its scale, ground, ledges and shelter, as `grime run` does.
+    let (_, seen) = proxy_site(&h);
+    let photo = h.state().controller().loaded().unwrap().photo.clone();
+    let a = grime::analysis::analyse(&photo, &Default::default()).unwrap();
+    let ph = seen.shelter.as_ref().unwrap().height();
+    assert_eq!(seen, grime::pipeline::Site::seen_at(&a, pw, ph));
+    assert_ne!(seen.metres_per_pixel, assumed.metres_per_pixel);
+    assert!(!seen.ledges.is_empty() && seen.ground.iter().any(|g| g.is_finite()));
+    assert_eq!(
+        h.state().controller().loaded().unwrap().site(),
+        Some(grime::pipeline::Site::seen(&a))
+    );
     // The sample's own region is the wall without sky and windows: the
     // analysis keeps all of that wall, and leaves out the sky and the glass
     // (it keeps window frames, which the sample cuts out with the glass).

@@ -1,6 +1,7 @@
 //! What is wall: sky, vegetation, ground and window glass are found from
 //! colour and texture statistics and where they sit (sky touches the top,
-//! ground the bottom, glass forms dark compact blobs); the rest is wall. The
+//! ground the bottom, glass forms dark compact blobs, bare branches are
+//! surrounded by sky); the rest is wall. The
 //! hard labels become a soft matte with a guided filter (He, Sun and Tang,
 //! "Guided image filtering", 2010, eqs. (7)-(8)) on the photo's luma.
 
@@ -49,6 +50,9 @@ const SKY_TEXTURE: f32 = 0.05;
 /// in the upper half.
 const CLEAR_BLUE: f32 = 0.25;
 
+/// Vegetation is greener than this (excess green over the sum, ExG).
+const GREEN_EXCESS: f32 = 0.1;
+
 /// Below this share of non-wall pixels the photo is a close-up: all wall.
 const CLOSE_UP: f32 = 0.02;
 
@@ -57,6 +61,53 @@ pub fn classify(f: &Features) -> Vec<Class> {
     let (w, h) = (f.w, f.h);
     let n = w * h;
     let mut class = vec![Class::Wall; n];
+    // The sky's fills run on one thread: the paving joints go beside them.
+    let (sky, steps) = rayon::join(|| sky(f), || unjoint(f, (h as f32 * JOINT_BAND) as usize));
+    for i in 0..n {
+        if sky[i] {
+            class[i] = Class::Sky;
+        }
+    }
+    // Bare branches: thin structure with sky all around (a wall's edge
+    // has sky on one side only, at most half its neighbourhood). In a
+    // thumbnail the neighbourhood is a few pixels: a wall's jagged edge.
+    if w.max(h) >= BRANCHES_MIN_SIDE {
+        let sky_share: Vec<f32> = sky.iter().map(|&s| s as u8 as f32).collect();
+        let near = box_mean(&sky_share, w, h, w.max(h) / 100 + 1);
+        for i in 0..n {
+            if !sky[i] && near[i] > BRANCHES {
+                class[i] = Class::Vegetation;
+            }
+        }
+    }
+    // Vegetation: green excess, smoothed to a majority vote.
+    let veg_cand: Vec<f32> = (0..n)
+        .map(|i| {
+            let [r, g, b] = f.rgb_at(i);
+            let exg = (2.0 * g - r - b) / (r + g + b + 0.05);
+            (exg > GREEN_EXCESS && g > r && g > b * 0.9) as u8 as f32
+        })
+        .collect();
+    let veg = box_mean(&veg_cand, w, h, (w.max(h) / 200).max(1));
+    for i in 0..n {
+        if veg[i] > 0.5 && class[i] == Class::Wall {
+            class[i] = Class::Vegetation;
+        }
+    }
+    ground(f, &steps, &mut class);
+    glass(f, &mut class);
+    let other = class.iter().filter(|&&c| c != Class::Wall).count();
+    if (other as f32) < CLOSE_UP * n as f32 {
+        class.iter_mut().for_each(|c| *c = Class::Wall);
+    }
+    class
+}
+
+/// Sky: bright, smooth, bluish or white-grey, connected to the top edge
+/// (or to clear blue in the upper half).
+fn sky(f: &Features) -> Vec<bool> {
+    let (w, h) = (f.w, f.h);
+    let n = w * h;
     let sat = |i: usize| {
         let [r, g, b] = f.rgb_at(i);
         let mx = r.max(g).max(b);
@@ -66,7 +117,6 @@ pub fn classify(f: &Features) -> Vec<Class> {
             (mx - r.min(g).min(b)) / mx
         }
     };
-    // Sky: bright, smooth, bluish or white-grey, connected to the top edge.
     let sky_colour: Vec<bool> = (0..n)
         .map(|i| {
             let [r, g, b] = f.rgb_at(i);
@@ -92,33 +142,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
     let core = flood(&sky_cand, w, h, seeds, smooth_step);
     // Then up to the roof edge, where the texture window already sees the roof.
     let seeds = (0..n).filter(|&i| core[i]).collect();
-    let sky = flood(&sky_colour, w, h, seeds, smooth_step);
-    for i in 0..n {
-        if sky[i] {
-            class[i] = Class::Sky;
-        }
-    }
-    // Vegetation: green excess, smoothed to a majority vote.
-    let veg_cand: Vec<f32> = (0..n)
-        .map(|i| {
-            let [r, g, b] = f.rgb_at(i);
-            let exg = (2.0 * g - r - b) / (r + g + b + 0.05);
-            (exg > 0.07 && g > r && g > b * 0.9) as u8 as f32
-        })
-        .collect();
-    let veg = box_mean(&veg_cand, w, h, (w.max(h) / 200).max(1));
-    for i in 0..n {
-        if veg[i] > 0.5 && class[i] == Class::Wall {
-            class[i] = Class::Vegetation;
-        }
-    }
-    ground(f, &mut class);
-    glass(f, &mut class);
-    let other = class.iter().filter(|&&c| c != Class::Wall).count();
-    if (other as f32) < CLOSE_UP * n as f32 {
-        class.iter_mut().for_each(|c| *c = Class::Wall);
-    }
-    class
+    flood(&sky_colour, w, h, seeds, smooth_step)
 }
 
 /// Pixels of `cand` 4-connected to the seeds (indices into the row-major
@@ -154,11 +178,11 @@ fn flood(
 /// not strongly coloured. Each wide stretch of such pixels on the bottom row
 /// (a road, a pavement: not the foot of a brick) grows with its own colour
 /// model, and the fill does not cross a colour step (a kerb, the foot of
-/// the wall). A stretch's ground is refused when it looks like what lies
+/// the wall), except the thin joints of paving in the bottom fifth. A stretch's ground is refused when it looks like what lies
 /// above it, and all ground when it nearly everywhere stops at the 45%
 /// limit (a close-up's texture, a facade down to the photo's edge, reach
 /// the bottom too).
-fn ground(f: &Features, class: &mut [Class]) {
+fn ground(f: &Features, steps: &[[f32; 3]], class: &mut [Class]) {
     let (w, h) = (f.w, f.h);
     let r = (w.max(h) / 150).max(1);
     let smooth: Vec<Vec<f32>> = f.rgb.iter().map(|p| box_mean(p, w, h, r)).collect();
@@ -182,10 +206,10 @@ fn ground(f: &Features, class: &mut [Class]) {
     while x < w {
         let start = x;
         // A stretch ends where ground stops or the colour steps (road to
-        // pavement).
+        // pavement, not a paving joint).
         while x < w
             && basic[row + x]
-            && (x == start || l1(f.rgb_at(row + x), f.rgb_at(row + x - 1)) < GROUND_STEP)
+            && (x == start || l1(steps[row + x], steps[row + x - 1]) < GROUND_STEP)
         {
             x += 1;
         }
@@ -197,7 +221,7 @@ fn ground(f: &Features, class: &mut [Class]) {
                 .collect();
             let seeds = (row + start..row + x).collect();
             let part = flood(&cand, w, h, seeds, |i, j| {
-                l1(f.rgb_at(i), f.rgb_at(j)) < GROUND_STEP
+                l1(steps[i], steps[j]) < GROUND_STEP
             });
             if !like_above(&part, &at, w, h, top) {
                 g.iter_mut().zip(&part).for_each(|(a, &b)| *a |= b);
@@ -225,8 +249,8 @@ fn ground(f: &Features, class: &mut [Class]) {
 }
 
 /// True when what lies above the top of `part` (a twelfth of the height
-/// up) looks like the part itself (median colours), or when a third of its
-/// columns run up to the `top` limit: a brick of a close-up, the foot of a
+/// up) looks like the part itself (median colours), or when two thirds of
+/// its columns run up to the `top` limit: a brick of a close-up, the foot of a
 /// facade, not a road.
 fn like_above(
     part: &[bool],
@@ -246,12 +270,71 @@ fn like_above(
     if above.is_empty() {
         return false;
     }
-    if at_cap * 3 > above.len() {
+    if at_cap * 3 > above.len() * 2 {
         return true;
     }
     let (a, b) = (median3(&mut above), median3(&mut inside));
-    (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>() < 0.06
+    (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>() < LIKE_ABOVE
 }
+
+/// The colour of each pixel, with thin lines (paving joints, up to 2
+/// analysis pixels wide) removed from row `from` down: a 5-tap median along
+/// rows, then along columns. Above `from` the photo's own colour.
+fn unjoint(f: &Features, from: usize) -> Vec<[f32; 3]> {
+    let (w, h) = (f.w, f.h);
+    let mut out: Vec<[f32; 3]> = (0..w * h).map(|i| f.rgb_at(i)).collect();
+    let from = from.min(h);
+    // Row medians from two rows above `from`, for the column medians below it.
+    let y0 = from.saturating_sub(2);
+    for c in 0..3 {
+        let p = &f.rgb[c];
+        let mut rows = vec![0f32; (h - y0) * w];
+        rows.par_chunks_mut(w).enumerate().for_each(|(k, row)| {
+            let line = &p[(y0 + k) * w..(y0 + k + 1) * w];
+            for (x, o) in row.iter_mut().enumerate() {
+                *o = median5(std::array::from_fn(|d| {
+                    line[(x + d).saturating_sub(2).min(w - 1)]
+                }));
+            }
+        });
+        out[from * w..]
+            .par_chunks_mut(w)
+            .enumerate()
+            .for_each(|(k, row)| {
+                let y = from + k;
+                for (x, o) in row.iter_mut().enumerate() {
+                    o[c] = median5(std::array::from_fn(|d| {
+                        rows[((y + d).saturating_sub(2).min(h - 1) - y0) * w + x]
+                    }));
+                }
+            });
+    }
+    out
+}
+
+/// Median of five by min and max (colours in 0..1, no NaN): the smaller of
+/// the two pairs' minima and the larger of their maxima are not the median;
+/// it is the median of the three left.
+fn median5(v: [f32; 5]) -> f32 {
+    let (lo, hi) = (
+        v[0].min(v[1]).max(v[2].min(v[3])),
+        v[0].max(v[1]).min(v[2].max(v[3])),
+    );
+    let (x, y) = (lo.min(hi), lo.max(hi));
+    x.max(y.min(v[4]))
+}
+
+/// Paving joints are crossed in this bottom band (from this share of the
+/// height down); above it a thin dark line may be the foot of the wall.
+const JOINT_BAND: f32 = 0.8;
+/// A stretch's ground is refused when the colour a twelfth of the height
+/// above its top is this close (L1 of medians) to its own.
+const LIKE_ABOVE: f32 = 0.03;
+/// A pixel that is not sky with more than this share of sky within 1% of
+/// the photo's size around it is a bare branch (vegetation).
+const BRANCHES: f32 = 0.45;
+/// Bare branches are looked for in photos at least this long (pixels).
+const BRANCHES_MIN_SIDE: usize = 200;
 
 /// Ground is less saturated than this.
 const GROUND_SATURATION: f32 = 0.45;
@@ -434,5 +517,89 @@ mod tests {
             "{ground}"
         );
         assert!(class[..w as usize * 80].iter().all(|&c| c == Class::Wall));
+    }
+
+    /// An orange wall over grey paving stones 16 pixels square, laid with
+    /// darker joints 2 pixels wide (a colour step of 0.35, beyond
+    /// `GROUND_STEP`), in the bottom fifth.
+    fn paved(joint: u8) -> Vec<Class> {
+        let (w, h) = (240u32, 200u32);
+        let img = image::RgbImage::from_fn(w, h, |x, y| {
+            image::Rgb(if y < 164 {
+                [204, 128, 76]
+            } else if x % 16 < 2 || (y - 164) % 16 < 2 {
+                [joint; 3]
+            } else {
+                [150; 3]
+            })
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 240);
+        classify(&f)
+    }
+
+    #[test]
+    fn the_ground_fill_crosses_paving_joints() {
+        let class = paved(120);
+        let paving = &class[170 * 240..];
+        let ground = paving.iter().filter(|&&c| c == Class::Ground).count();
+        assert!(
+            ground * 10 > paving.len() * 9,
+            "{ground} of {}",
+            paving.len()
+        );
+        assert!(class[..160 * 240].iter().all(|&c| c == Class::Wall));
+    }
+
+    #[test]
+    fn bare_branches_against_the_sky_are_not_wall() {
+        // Blue sky over a wall; in the sky, dark brown twigs 1 pixel wide,
+        // 4 apart.
+        let (w, h) = (200u32, 200u32);
+        let img = image::RgbImage::from_fn(w, h, |x, y| {
+            image::Rgb(if y >= 120 {
+                [200, 190, 170]
+            } else if (40..160).contains(&x) && (30..90).contains(&y) && x % 4 == 0 {
+                [70, 50, 35]
+            } else {
+                [90, 150, 230]
+            })
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 200);
+        let class = classify(&f);
+        let crown = (30..90)
+            .flat_map(|y| (40..160).map(move |x| y * 200 + x))
+            .filter(|&i| class[i] == Class::Wall)
+            .count();
+        assert!(crown < 120 * 60 / 20, "{crown} crown pixels are wall");
+        assert!(
+            class[121 * 200..].iter().all(|&c| c != Class::Vegetation),
+            "the wall below is no branch"
+        );
+    }
+
+    #[test]
+    fn median5_is_the_middle_of_the_sorted_five() {
+        let mut seed = 7u32;
+        for _ in 0..2000 {
+            let v: [f32; 5] = std::array::from_fn(|_| {
+                seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                (seed >> 24) as f32 / 16.0
+            });
+            let mut s = v;
+            s.sort_by(f32::total_cmp);
+            assert_eq!(median5(v), s[2], "{v:?}");
+        }
+    }
+
+    #[test]
+    fn a_thumbnail_keeps_its_wall_beside_the_sky() {
+        // 40x30, blue over a greener bottom (the batch test's 16-bit
+        // gradient): the few wall pixels next to the sky are not branches.
+        let img = image::RgbImage::from_fn(40, 30, |x, y| {
+            image::Rgb([(x * 1000 / 257) as u8, (y * 2000 / 257) as u8, 156])
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 40);
+        let class = classify(&f);
+        assert!(class.contains(&Class::Wall), "{class:?}");
     }
 }

@@ -11,6 +11,7 @@ use image::{GrayImage, RgbImage};
 
 use crate::analysis::Analysis;
 use crate::photo::Photo;
+use crate::pipeline::Site;
 use crate::preset::{self, Preset};
 
 use super::analyser::{self, Analyser, Finished, Want};
@@ -47,6 +48,13 @@ pub struct Loaded {
 }
 
 impl Loaded {
+    /// The building the scene analysis saw at the photo's size (scale,
+    /// ground, ledges, shelter), once "Auto region" or "Detect ledges" ran:
+    /// what an export runs with, as `grime run` does with an analysed photo.
+    pub fn site(&self) -> Option<Site> {
+        self.analysis.as_deref().map(Site::seen)
+    }
+
     /// True during a brush or eraser stroke.
     pub fn stroking(&self) -> bool {
         self.stroke_before.is_some()
@@ -557,6 +565,11 @@ impl Controller {
         match done.result {
             Ok(a) => {
                 l.analysis = Some(Arc::clone(&a));
+                // The preview runs with what was seen (scale, ground,
+                // ledges, shelter) from now on, as `grime run` does.
+                let (w, h) = (l.proxy.photo.width(), l.proxy.photo.height());
+                l.proxy.site = Some(Site::seen_at(&a, w, h));
+                self.bump();
                 for want in done.wants {
                     self.use_analysis(want, &a);
                 }

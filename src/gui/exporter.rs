@@ -36,6 +36,10 @@ impl Exporter {
     pub fn start(&mut self, l: &Loaded, path: PathBuf, timelapse: bool) -> Result<String, String> {
         let scene = Scene::shared(Arc::clone(&l.photo), Some(Arc::new(l.doc.mask.clone())))
             .and_then(|s| s.with_quad(l.doc.quad))
+            .and_then(|s| match l.site() {
+                Some(site) => s.with_site(site),
+                None => Ok(s),
+            })
             .map_err(|e| format!("cannot export: {e}"))?;
         let note = format!("Exporting {} at full resolution…", path.display());
         self.worker.submit(ExportJob {

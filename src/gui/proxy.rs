@@ -9,7 +9,7 @@ use image::GrayImage;
 use crate::error::Result;
 use crate::perspective::Quad;
 use crate::photo::Photo;
-use crate::pipeline::Scene;
+use crate::pipeline::{Scene, Site};
 use crate::preset::Preset;
 
 use super::render::PreviewJob;
@@ -32,6 +32,9 @@ pub struct Proxy {
     /// copied only when it changes while a job holds it, so the pipeline's
     /// cache ([`Scene::same_as`]) sees the same mask until it changes.
     pub mask: Arc<GrayImage>,
+    /// The building around the wall at the proxy's size, once the scene
+    /// analysis has seen it (`None`: the assumed site).
+    pub site: Option<Site>,
 }
 
 impl Proxy {
@@ -45,6 +48,7 @@ impl Proxy {
                 sy: 1.0,
                 photo: Arc::clone(photo),
                 mask: Arc::new(mask.clone()),
+                site: None,
             };
         }
         let (pw, ph) = (
@@ -61,6 +65,7 @@ impl Proxy {
             sy: ph as f32 / h as f32,
             photo: Arc::new(small),
             mask: Arc::new(GrayImage::new(pw, ph)),
+            site: None,
         };
         proxy.update_mask(mask, PixelRect::full(w, h));
         proxy
@@ -140,8 +145,11 @@ impl Proxy {
                 *p = self.to_proxy(*p);
             }
         }
-        let scene = Scene::shared(Arc::clone(&self.photo), Some(Arc::clone(&self.mask)))?
+        let mut scene = Scene::shared(Arc::clone(&self.photo), Some(Arc::clone(&self.mask)))?
             .with_quad(quad.map(|q| q.map(|p| self.to_proxy(p))))?;
+        if let Some(site) = &self.site {
+            scene = scene.with_site(site.clone())?;
+        }
         Ok(PreviewJob {
             scene,
             preset,

@@ -48,12 +48,31 @@ impl Site {
 
     /// What the scene analysis saw.
     pub fn seen(a: &Analysis) -> Site {
+        Site::seen_at(a, a.width, a.height)
+    }
+
+    /// What the scene analysis saw, for the photo scaled to `w` x `h` (a
+    /// GUI's preview proxy): metres per pixel, ground rows, ledges and
+    /// shelter in that image's pixels.
+    pub fn seen_at(a: &Analysis, w: u32, h: u32) -> Site {
+        let (fx, fy) = (
+            a.width as f32 / w.max(1) as f32,
+            a.height as f32 / h.max(1) as f32,
+        );
+        let ledges = a
+            .ledges
+            .iter()
+            .map(|l| Ledge {
+                polyline: l.polyline.iter().map(|p| [p[0] / fx, p[1] / fy]).collect(),
+                ..l.clone()
+            })
+            .collect();
         Site {
-            metres_per_pixel: a.scale.metres_per_pixel,
-            ground: ground_line(a),
-            ledges: a.ledges.clone(),
-            shelter: Some(Arc::new(GrayImage::from_fn(a.width, a.height, |x, y| {
-                let s = a.shelter_at(x as f32 + 0.5, y as f32 + 0.5);
+            metres_per_pixel: a.scale.metres_per_pixel * fx,
+            ground: ground_line(a, w, h),
+            ledges,
+            shelter: Some(Arc::new(GrayImage::from_fn(w, h, |x, y| {
+                let s = a.shelter_at((x as f32 + 0.5) * fx, (y as f32 + 0.5) * fy);
                 image::Luma([(s.clamp(0.0, 1.0) * 255.0).round() as u8])
             }))),
         }
@@ -82,10 +101,10 @@ impl Site {
     }
 }
 
-/// Per photo column, the lowest wall row that has ground (road, pavement)
+/// Per column of the photo scaled to `w` x `h`, the lowest wall row that has ground (road, pavement)
 /// right below it in the analysis; `NaN` where the column ends in wall or in
 /// anything else (the frame cuts the wall, a car stands in front).
-fn ground_line(a: &Analysis) -> Vec<f32> {
+fn ground_line(a: &Analysis, w: u32, h: u32) -> Vec<f32> {
     let (aw, ah) = (a.analysis_width as usize, a.analysis_height as usize);
     let per_column: Vec<f32> = (0..aw)
         .map(|x| {
@@ -96,13 +115,13 @@ fn ground_line(a: &Analysis) -> Vec<f32> {
             }
             let wall_above = y > 0 && class(y - 1) == Class::Wall;
             match (y < ah, wall_above) {
-                (true, true) => y as f32 * a.height as f32 / ah as f32,
+                (true, true) => y as f32 * h as f32 / ah as f32,
                 _ => f32::NAN,
             }
         })
         .collect();
-    (0..a.width)
-        .map(|x| per_column[(x as usize * aw / a.width as usize).min(aw - 1)])
+    (0..w)
+        .map(|x| per_column[(x as usize * aw / w.max(1) as usize).min(aw - 1)])
         .collect()
 }
 
@@ -130,5 +149,23 @@ mod tests {
         assert!(found.len() > 240, "ground found in {} columns", found.len());
         let mean = found.iter().sum::<f32>() / found.len() as f32;
         assert!(mean > 180.0, "the ground is in the lower half: {mean}");
+
+        // At half the size (a preview proxy): pixels twice as large, the
+        // ground and the ledges at half the coordinates.
+        let half = Site::seen_at(&a, 240, 180);
+        assert_eq!(half.metres_per_pixel, 2.0 * site.metres_per_pixel);
+        assert_eq!(half.ground.len(), 240);
+        assert_eq!(half.shelter.as_ref().unwrap().dimensions(), (240, 180));
+        for x in (0..240).step_by(7) {
+            match (half.ground_at(x), site.ground_at(2 * x)) {
+                (Some(a), Some(b)) => assert!((2.0 * a - b).abs() < 1e-3, "{x}: {a} {b}"),
+                (a, b) => assert_eq!(a.is_some(), b.is_some(), "{x}"),
+            }
+        }
+        assert_eq!(half.ledges.len(), site.ledges.len());
+        for (l, m) in half.ledges.iter().zip(&site.ledges) {
+            assert_eq!(l.kind, m.kind);
+            assert!((2.0 * l.polyline[0][1] - m.polyline[0][1]).abs() < 1e-3);
+        }
     }
 }
