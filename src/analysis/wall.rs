@@ -63,25 +63,29 @@ pub fn classify(f: &Features) -> Vec<Class> {
     let mut class = vec![Class::Wall; n];
     // The sky's fills run on one thread: the paving joints go beside them.
     let (sky, steps) = rayon::join(|| sky(f), || unjoint(f, (h as f32 * JOINT_BAND) as usize));
-    for i in 0..n {
-        if sky[i] {
-            class[i] = Class::Sky;
+    class.par_iter_mut().zip(&sky).for_each(|(c, &s)| {
+        if s {
+            *c = Class::Sky;
         }
-    }
+    });
     // Bare branches: thin structure with sky all around (a wall's edge
     // has sky on one side only, at most half its neighbourhood). In a
     // thumbnail the neighbourhood is a few pixels: a wall's jagged edge.
     if w.max(h) >= BRANCHES_MIN_SIDE {
-        let sky_share: Vec<f32> = sky.iter().map(|&s| s as u8 as f32).collect();
+        let sky_share: Vec<f32> = sky.par_iter().map(|&s| s as u8 as f32).collect();
         let near = box_mean(&sky_share, w, h, w.max(h) / 100 + 1);
-        for i in 0..n {
-            if !sky[i] && near[i] > BRANCHES {
-                class[i] = Class::Vegetation;
-            }
-        }
+        class
+            .par_iter_mut()
+            .zip(sky.par_iter().zip(&near))
+            .for_each(|(c, (&s, &near))| {
+                if !s && near > BRANCHES {
+                    *c = Class::Vegetation;
+                }
+            });
     }
     // Vegetation: green excess, smoothed to a majority vote.
     let veg_cand: Vec<f32> = (0..n)
+        .into_par_iter()
         .map(|i| {
             let [r, g, b] = f.rgb_at(i);
             let exg = (2.0 * g - r - b) / (r + g + b + 0.05);
@@ -89,11 +93,11 @@ pub fn classify(f: &Features) -> Vec<Class> {
         })
         .collect();
     let veg = box_mean(&veg_cand, w, h, (w.max(h) / 200).max(1));
-    for i in 0..n {
-        if veg[i] > 0.5 && class[i] == Class::Wall {
-            class[i] = Class::Vegetation;
+    class.par_iter_mut().zip(&veg).for_each(|(c, &v)| {
+        if v > 0.5 && *c == Class::Wall {
+            *c = Class::Vegetation;
         }
-    }
+    });
     ground(f, &steps, &mut class);
     glass(f, &mut class);
     let other = class.iter().filter(|&&c| c != Class::Wall).count();
@@ -118,6 +122,7 @@ fn sky(f: &Features) -> Vec<bool> {
         }
     };
     let sky_colour: Vec<bool> = (0..n)
+        .into_par_iter()
         .map(|i| {
             let [r, g, b] = f.rgb_at(i);
             let blue = b - r > 0.03 && b >= g - 0.03 && b > 0.35;
@@ -125,6 +130,7 @@ fn sky(f: &Features) -> Vec<bool> {
         })
         .collect();
     let sky_cand: Vec<bool> = (0..n)
+        .into_par_iter()
         .map(|i| sky_colour[i] && f.texture[i] < SKY_TEXTURE)
         .collect();
     // Sky is smooth: the fill does not cross a colour step (a roof edge).
@@ -135,13 +141,13 @@ fn sky(f: &Features) -> Vec<bool> {
     // Seeds: the top row, and clear blue sky in the upper half (seen
     // between branches or beside a tower, not touching the top).
     let mut seeds: Vec<usize> = (0..w).collect();
-    seeds.extend((0..h / 2 * w).filter(|&i| {
+    seeds.par_extend((0..h / 2 * w).into_par_iter().filter(|&i| {
         let [r, g, b] = f.rgb_at(i);
         b - r > CLEAR_BLUE && b > g && f.texture[i] < SKY_TEXTURE
     }));
     let core = flood(&sky_cand, w, h, seeds, smooth_step);
     // Then up to the roof edge, where the texture window already sees the roof.
-    let seeds = (0..n).filter(|&i| core[i]).collect();
+    let seeds = (0..n).into_par_iter().filter(|&i| core[i]).collect();
     flood(&sky_colour, w, h, seeds, smooth_step)
 }
 

@@ -296,6 +296,12 @@ pub(super) fn moss(
     )?;
     let l_wall = surface::wall_luma(ctx.luma, ctx.region);
     surface::modulate(&mut grown.layer, ctx.photo, l_wall);
+    // [choice] Colonies a few pixels across (a street photo, centimetres
+    // a pixel) are as soft as the photo's own detail: without this they are
+    // crisp one-pixel specks, read as pasted sprites in the blind review.
+    if baseline < SMALL_COLONY_PX {
+        surface::soften(&mut grown.layer, PHOTO_SOFTNESS_PX, ctx.mask);
+    }
     let pixels = LayerPixels::Rgba(grown.layer);
     let layer = layer(
         Effect::Moss,
@@ -340,6 +346,13 @@ fn moss_habitat(ctx: &Context, p: &crate::preset::MossParams, seed: u64) -> RowM
     }
     map
 }
+
+/// Colonies narrower than this many pixels are softened.
+const SMALL_COLONY_PX: f32 = 4.0;
+
+/// A photo's own blur at its finest detail (lens, demosaicing, JPEG),
+/// pixels: the Gaussian small colonies are softened by.
+const PHOTO_SOFTNESS_PX: f32 = 0.8;
 
 /// Size of the patches moss keeps to along its places, metres.
 const PATCH_M: f32 = 0.5;

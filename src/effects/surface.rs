@@ -9,7 +9,7 @@
 //! paints carries the light and relief of the wall under it (a colony in a
 //! joint's shadow is darker; a sunlit one lighter).
 
-use image::RgbaImage;
+use image::{GrayImage, ImageBuffer, Rgba, RgbaImage};
 use rayon::prelude::*;
 
 use crate::field::RowMajor;
@@ -57,6 +57,43 @@ pub fn modulate(layer: &mut RgbaImage, photo: &Photo, l_wall: f32) {
     );
 }
 
+/// Blurs a straight-alpha layer by a Gaussian of `sigma` pixels, with
+/// colour weighted by alpha (premultiplied, so no colour bleeds in from
+/// transparent pixels), then keeps it inside `mask` (the region's weights).
+pub fn soften(layer: &mut RgbaImage, sigma: f32, mask: Option<&GrayImage>) {
+    if sigma <= 0.0 {
+        return;
+    }
+    let pre: ImageBuffer<Rgba<f32>, Vec<f32>> =
+        ImageBuffer::from_fn(layer.width(), layer.height(), |x, y| {
+            let [r, g, b, a] = layer.get_pixel(x, y).0.map(f32::from);
+            let k = a / 255.0;
+            Rgba([r * k, g * k, b * k, a])
+        });
+    let blurred = imageproc::filter::gaussian_blur_f32(&pre, sigma);
+    let w = layer.width() as usize;
+    layer
+        .par_chunks_mut(w * 4)
+        .zip(blurred.par_chunks(w * 4))
+        .enumerate()
+        .for_each(|(y, (row, src))| {
+            for (x, (px, s)) in row.chunks_exact_mut(4).zip(src.chunks_exact(4)).enumerate() {
+                let weight =
+                    mask.map_or(1.0, |m| m.get_pixel(x as u32, y as u32)[0] as f32 / 255.0);
+                let a = s[3] * weight;
+                if a < 0.5 {
+                    px.copy_from_slice(&[0; 4]);
+                    continue;
+                }
+                let k = 255.0 / s[3];
+                for c in 0..3 {
+                    px[c] = (s[c] * k).round().clamp(0.0, 255.0) as u8;
+                }
+                px[3] = a.round().min(255.0) as u8;
+            }
+        });
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -79,5 +116,29 @@ mod tests {
             [50, 100, 140, 100],
             "darker, same, capped lighter, untouched"
         );
+    }
+
+    #[test]
+    fn a_softened_speck_spreads_keeps_its_colour_and_stays_in_the_mask() {
+        // One green pixel on a transparent layer; the right half is off
+        // the wall.
+        let mut layer = RgbaImage::new(9, 9);
+        layer.put_pixel(4, 4, image::Rgba([40, 160, 60, 255]));
+        let mask = GrayImage::from_fn(9, 9, |x, _| Luma([if x < 5 { 255 } else { 0 }]));
+        let mass = |l: &RgbaImage| l.pixels().map(|p| p[3] as u32).sum::<u32>();
+        let before = mass(&layer);
+        soften(&mut layer, 0.8, Some(&mask));
+        let centre = layer.get_pixel(4, 4);
+        assert!(centre[3] < 255 && layer.get_pixel(3, 4)[3] > 0, "spread");
+        assert_eq!(&centre.0[..3], &[40, 160, 60], "no colour bleeds in");
+        assert!(
+            layer
+                .pixels()
+                .enumerate()
+                .all(|(i, p)| i % 9 < 5 || p[3] == 0)
+        );
+        // About half its coverage fell off the wall.
+        let kept = mass(&layer) as f32 / before as f32;
+        assert!((0.5..0.85).contains(&kept), "{kept}");
     }
 }

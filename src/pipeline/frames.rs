@@ -102,7 +102,10 @@ pub fn run_frames(
         .map(|(n, layer)| match &plane {
             Some((rect, _)) => {
                 let (pw, ph) = scene.size();
-                (n, rect.unrectify_layer(&layer, pw, ph, scene.region.as_deref()))
+                (
+                    n,
+                    rect.unrectify_layer(&layer, pw, ph, scene.region.as_deref()),
+                )
             }
             None => (n, layer),
         })
