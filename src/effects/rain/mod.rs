@@ -648,12 +648,17 @@ fn diffusion_round(
         let (mut sum, mut max) = (0.0, 0.0f32);
         let (d, base) = (&col.d[1..], &col.baseline[1..]);
         for ((dep, d), base) in col.output.iter_mut().zip(d).zip(base) {
-            // Signed when the washed dirt is kept: the deposit is the
-            // positive part, the washed dirt the negative (`simulate_keeping`).
-            let positive = (d - base).max(0.0);
-            *dep = if signed { d - base } else { positive };
-            sum += positive as f64;
-            max = max.max(positive);
+            *dep = (d - base).max(0.0);
+            sum += *dep as f64;
+            max = max.max(*dep);
+        }
+        if signed {
+            // The washed dirt is kept: the output is signed, its positive
+            // part the deposit, its negative the washed dirt
+            // (`simulate_keeping`).
+            for ((dep, d), base) in col.output.iter_mut().zip(d).zip(base) {
+                *dep = d - base;
+            }
         }
         if let Some(begin) = begin {
             begin.column(&mut col);
