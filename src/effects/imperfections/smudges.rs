@@ -82,6 +82,27 @@ pub fn weight(f: &Fractal, placed: &Placed, coverage: f32, stretch: f32) -> Weig
     Weight { field, weight }
 }
 
+/// A generator's fBm over the placement, its coarsest features `size_m`
+/// metres across.
+fn fractal(
+    ctx: &Context,
+    which: Gen,
+    placed: &Placed,
+    size_m: f32,
+    roughness: f32,
+    seed: u64,
+) -> Fractal {
+    let px = ctx.photo_px(size_m).max(2.0);
+    Fractal::new(
+        seed,
+        which.stream(0),
+        placed.width,
+        placed.height,
+        px,
+        roughness,
+    )
+}
+
 fn alpha_of(img: &RgbaImage) -> GrayImage {
     GrayImage::from_fn(img.width(), img.height(), |x, y| {
         image::Luma([img.get_pixel(x, y)[3]])
@@ -96,14 +117,7 @@ pub fn smudges(
     seed: u64,
 ) -> (RgbaImage, GrayImage) {
     let (w, h) = (placed.width, placed.height);
-    let f = Fractal::new(
-        seed,
-        Gen::Smudges.stream(0),
-        w,
-        h,
-        ctx.photo_px(p.size).max(2.0),
-        p.roughness,
-    );
+    let f = fractal(ctx, Gen::Smudges, placed, p.size, p.roughness, seed);
     let wt = weight(&f, placed, p.coverage, p.stretch);
     let photo = ctx.photo.image().to_rgb8();
     let r = ctx.photo_px(p.blur).round() as usize;
@@ -208,14 +222,7 @@ pub fn corrosion(
     seed: u64,
 ) -> (RgbaImage, GrayImage) {
     let (w, h) = (placed.width, placed.height);
-    let f = Fractal::new(
-        seed,
-        Gen::Corrosion.stream(0),
-        w,
-        h,
-        ctx.photo_px(p.size).max(2.0),
-        p.roughness,
-    );
+    let f = fractal(ctx, Gen::Corrosion, placed, p.size, p.roughness, seed);
     let wt = weight(&f, placed, p.coverage, 1.0);
     let pitted = pits(ctx, p, &wt.weight, w, seed);
     // A pit: the colour darkened by the pit's share of its pixel.
