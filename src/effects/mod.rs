@@ -36,7 +36,7 @@ pub mod rain;
 pub mod region;
 pub mod roughness;
 mod stages;
-pub use stages::WASHED;
+pub use stages::{WASHED, washed_layer};
 pub mod surface;
 #[cfg(test)]
 pub(crate) mod testing;
@@ -290,10 +290,6 @@ pub struct Products {
     pub keep_rain_at: Vec<u32>,
     /// The walls it kept, in rainfall order.
     pub rain_kept: Vec<Arc<rain::Kept>>,
-    /// The washed-runs layer after each kept rainfall count (when the
-    /// preset has one): a time-lapse frame's, which its first rainfalls'
-    /// layers do not give.
-    pub rain_washed: Vec<(u32, Layer)>,
     /// What a time-lapse's frames carry from one to the next (the dust so
     /// far, maps that do not age); `None` in a plain run.
     pub carry: Option<Box<carry::Carry>>,

@@ -10,7 +10,6 @@ use serde::Serialize;
 use super::moss::{self, MossInput, Wet};
 use super::rain::{self, RainInput, sources::Release};
 use super::{Context, Effect, Produced, Products, Stats, dust, habitat, surface};
-use crate::effects::percentile::{Rank, percentile};
 use crate::error::Result;
 use crate::field::{ColumnMajor, RowMajor};
 use crate::preset::Preset;
@@ -53,23 +52,12 @@ pub(super) fn rain(
 ) -> Result<Produced> {
     let grid = ctx.grid;
     let r = &preset.rain;
-    let source_lines: Vec<Vec<(f32, f32)>> = r
-        .source_lines
-        .iter()
-        .map(|line| line.iter().map(|p| grid.to_grid(p[0], p[1])).collect())
-        .collect();
-    let release = Release {
-        spacing: ctx.grid_px(r.drip_spacing_m),
-        width: ctx.grid_px(r.release_width_m),
-        end_share: r.end_share,
-    };
-    let catch = r.source_lines.iter().map(|l| catch(ctx, l)).collect();
     let input = RainInput {
         luma: ctx.luma,
         region: ctx.region,
-        source_lines,
-        catch,
-        release,
+        source_lines: grid_lines(ctx, r),
+        catch: r.source_lines.iter().map(|l| catch(ctx, l)).collect(),
+        release: release(ctx, r),
         washed: preset.stain.washed_opacity > 0.0,
     };
     let (out, kept) = rain::simulate_keeping(
@@ -79,25 +67,7 @@ pub(super) fn rain(
         &progress.span(0.0, 0.87),
         &products.keep_rain_at,
     )?;
-    let top_edge = r.top_edge.then(|| top_rows(ctx.region));
-    let fade = rain::fall::fade(
-        grid.width,
-        grid.height,
-        &input.source_lines,
-        top_edge.as_deref(),
-        ctx.grid_px(r.fall_m),
-        3.0 * release.width,
-    );
-    let blur = preset.stain.softness + ctx.grid_px(preset.stain.blur_m);
-    let mut stainer = Stainer {
-        ctx,
-        preset,
-        fade,
-        blur,
-        wider: (r.fall_m > 0.0).then_some(blur + 2.0 * release.width),
-        coverage: rain::stain::Coverage::new(grid.width, grid.height),
-        widened: rain::stain::Coverage::new(grid.width, grid.height),
-    };
+    let mut stainer = Stainer::new(ctx, preset);
 
     let d_max = rain::stain::d_max(&out.layers, preset.stain.percentile);
     let mut layers = Vec::with_capacity(out.layers.len() + 1);
@@ -123,10 +93,6 @@ pub(super) fn rain(
         layers.push(stainer.washed(washed));
         layer_stats.push(None);
     }
-    products.rain_washed = kept
-        .iter()
-        .filter_map(|k| Some((k.rainfalls, stainer.washed(k.washed.as_ref()?))))
-        .collect();
     products.rain_kept = kept.into_iter().map(Arc::new).collect();
     products.rain = Some(Arc::new(out));
     Ok(Produced {
@@ -141,6 +107,30 @@ pub(super) fn rain(
 
 /// Name of the rain's washed-runs layer, above its rainfalls.
 pub const WASHED: &str = "rain washed";
+
+/// The source lines on the grid.
+fn grid_lines(ctx: &Context, r: &crate::preset::RainParams) -> Vec<Vec<(f32, f32)>> {
+    r.source_lines
+        .iter()
+        .map(|line| line.iter().map(|p| ctx.grid.to_grid(p[0], p[1])).collect())
+        .collect()
+}
+
+/// Where ledges release their water, in grid pixels.
+fn release(ctx: &Context, r: &crate::preset::RainParams) -> Release {
+    Release {
+        spacing: ctx.grid_px(r.drip_spacing_m),
+        width: ctx.grid_px(r.release_width_m),
+        end_share: r.end_share,
+    }
+}
+
+/// The washed-runs layer of a rain whose net washed dirt is `washed`
+/// ([`rain::RainOutput::washed`]): what a time-lapse frame shows after its
+/// own rainfalls, from the wall the run kept then.
+pub fn washed_layer(ctx: &Context, preset: &Preset, washed: &ColumnMajor<f32>) -> Layer {
+    Stainer::new(ctx, preset).washed(washed)
+}
 
 /// From the rain's grid maps to photo-sized stain alphas: blurred, faded
 /// and widened down the fall below the sources.
@@ -157,7 +147,32 @@ struct Stainer<'a> {
     widened: rain::stain::Coverage,
 }
 
-impl Stainer<'_> {
+impl<'a> Stainer<'a> {
+    /// The stainer of `preset`'s rain on `ctx`'s grid.
+    fn new(ctx: &'a Context<'a>, preset: &'a Preset) -> Stainer<'a> {
+        let (grid, r) = (ctx.grid, &preset.rain);
+        let release = release(ctx, r);
+        let top_edge = r.top_edge.then(|| top_rows(ctx.region));
+        let fade = rain::fall::fade(
+            grid.width,
+            grid.height,
+            &grid_lines(ctx, r),
+            top_edge.as_deref(),
+            ctx.grid_px(r.fall_m),
+            3.0 * release.width,
+        );
+        let blur = preset.stain.softness + ctx.grid_px(preset.stain.blur_m);
+        Stainer {
+            ctx,
+            preset,
+            fade,
+            blur,
+            wider: (r.fall_m > 0.0).then_some(blur + 2.0 * release.width),
+            coverage: rain::stain::Coverage::new(grid.width, grid.height),
+            widened: rain::stain::Coverage::new(grid.width, grid.height),
+        }
+    }
+
     /// The alpha of `values` measured against `max`.
     fn alpha(&mut self, values: &ColumnMajor<f32>, max: f32) -> GrayImage {
         let stain = &self.preset.stain;
@@ -185,9 +200,7 @@ impl Stainer<'_> {
     /// against its own high percentile, like D_max; screened toward
     /// `stain.washed_color`, the clean stone under the soot].
     fn washed(&mut self, washed: &ColumnMajor<f32>) -> Layer {
-        let positive = washed.data().iter().copied().filter(|&v| v > 0.0);
-        let max = percentile(positive, self.preset.stain.percentile, Rank::Nearest)
-            .map_or(1.0, |v| v.max(f32::MIN_POSITIVE));
+        let max = rain::stain::w_max(washed, self.preset.stain.percentile);
         let pixels = LayerPixels::Tint {
             color: self.preset.stain.washed_color,
             alpha: self.alpha(washed, max),
@@ -206,22 +219,23 @@ impl Stainer<'_> {
 /// scene's rain shelter just above it, averaged along it (`how-facades-age.md`:
 /// the wall under a projecting cornice, balcony or eave stays dry).
 fn catch(ctx: &Context, line: &[[f32; 2]]) -> f32 {
-    let above = ctx.photo_px(0.05).max(1.0);
-    let mut samples = Vec::new();
+    let above = ctx.photo_px(CATCH_ABOVE_M).max(1.0);
+    let (mut sum, mut n) = (0.0, 0);
     for pair in line.windows(2) {
         let (a, b) = (pair[0], pair[1]);
         let steps = (b[0] - a[0]).hypot(b[1] - a[1]).ceil().max(1.0) as usize;
-        samples.extend((0..steps).map(|k| {
+        for k in 0..steps {
             let t = k as f32 / steps as f32;
             let (x, y) = (a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t - above);
-            ctx.site.shelter_at(x.max(0.0) as u32, y.max(0.0) as u32)
-        }));
+            sum += ctx.site.shelter_at(x.max(0.0) as u32, y.max(0.0) as u32);
+            n += 1;
+        }
     }
-    match samples.len() {
-        0 => 1.0,
-        n => 1.0 - samples.iter().sum::<f32>() / n as f32,
-    }
+    if n == 0 { 1.0 } else { 1.0 - sum / n as f32 }
 }
+
+/// Where a ledge's catch is read: this far above it, on its top, metres.
+const CATCH_ABOVE_M: f32 = 0.05;
 
 /// The first region row of each grid column (the top-edge source).
 fn top_rows(region: &crate::field::RowMajor<bool>) -> Vec<Option<usize>> {

@@ -19,7 +19,7 @@ use super::{Cache, Outcome, Prepared, plane_of, plane_preset, run_cached};
 use crate::clock;
 use crate::effects::carry::Carry;
 use crate::effects::region::Region;
-use crate::effects::{Effect, Products, stale};
+use crate::effects::{Effect, Products, stale, washed_layer};
 use crate::error::{Error, Result};
 use crate::pipeline::Scene;
 use crate::preset::Preset;
@@ -78,7 +78,6 @@ pub fn run_frames(
     let share = 1.0 / (frames.len() + 1) as f32;
     let full = run_cached(scene, last, &progress.span(0.0, share), &mut cache)?;
     let kept = std::mem::take(&mut cache.products.rain_kept);
-    let washed = std::mem::take(&mut cache.products.rain_washed);
     drop(cache);
     // The effects the clock changes, besides the rain, run per frame; the
     // others' layers are the run's.
@@ -96,20 +95,6 @@ pub fn run_frames(
         .as_ref()
         .map(|q| plane_of(scene, q))
         .transpose()?;
-    // The washed runs after each frame's rainfalls, on the photo.
-    let washed: Vec<(u32, Layer)> = washed
-        .into_iter()
-        .map(|(n, layer)| match &plane {
-            Some((rect, _)) => {
-                let (pw, ph) = scene.size();
-                (
-                    n,
-                    rect.unrectify_layer(&layer, pw, ph, scene.region.as_deref()),
-                )
-            }
-            None => (n, layer),
-        })
-        .collect();
     let at = plane.as_ref().map_or(scene, |(_, s)| s);
     let prepared = Prepared::new(at, last)?;
     let (w, h) = at.size();
@@ -150,6 +135,18 @@ pub fn run_frames(
             }
             made.push((*e, layers));
         }
+        // The washed runs sum the rainfalls so far: the frame's own, from
+        // the wall the run kept then.
+        let washed = wall_then.washed.as_ref().map(|w| {
+            let layer = washed_layer(&ctx, &preset, w);
+            match &plane {
+                Some((rect, _)) => {
+                    let (pw, ph) = scene.size();
+                    rect.unrectify_layer(&layer, pw, ph, scene.region.as_deref())
+                }
+                None => layer,
+            }
+        });
         // Bottom to top: each effect's layers, the run's or the frame's.
         let mut layers: Vec<&Layer> = Vec::new();
         let mut split = 0;
@@ -162,10 +159,7 @@ pub fn run_frames(
                     match e {
                         Effect::Rain => {
                             layers.extend(of_e.take(frame.rain.layers as usize));
-                            // The washed runs sum the rainfalls so far: the
-                            // frame's own, kept by the run.
-                            let n = frame.rain.layers;
-                            if let Some((_, w)) = washed.iter().find(|(k, _)| *k == n) {
+                            if let Some(w) = &washed {
                                 washed_at = Some(layers.len());
                                 layers.push(w);
                             }

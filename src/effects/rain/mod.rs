@@ -507,7 +507,8 @@ impl Clouds<'_> {
         }
         let (si, along) = sources::pick(&self.spans, start.0);
         let source = &self.sources[si];
-        // Back from the span to the source's own length.
+        // Back from the span to the source's own length (an open source's
+        // span is its length: its position is used as it is, bit for bit).
         let (span, len) = (self.spans[si], source.length());
         let u = if span == len {
             along

@@ -17,11 +17,20 @@ use crate::preset::StainParams;
 pub fn d_max(layers: &[RainLayer], q: f32) -> f32 {
     layers
         .iter()
-        .find_map(|layer| {
-            let positive = layer.deposit.data().iter().copied().filter(|&d| d > 0.0);
-            percentile(positive, q, Rank::Nearest)
-        })
+        .find_map(|layer| high(&layer.deposit, q))
         .map_or(1.0, |v| v.max(f32::MIN_POSITIVE))
+}
+
+/// The washed runs' counterpart of D_max: the `percentile` of the positive
+/// net washed dirt (1 when nothing was washed off).
+pub fn w_max(washed: &ColumnMajor<f32>, q: f32) -> f32 {
+    high(washed, q).map_or(1.0, |v| v.max(f32::MIN_POSITIVE))
+}
+
+/// The `q`-quantile of the positive values, if there are any.
+fn high(values: &ColumnMajor<f32>, q: f32) -> Option<f32> {
+    let positive = values.data().iter().copied().filter(|&v| v > 0.0);
+    percentile(positive, q, Rank::Nearest)
 }
 
 /// Stain coverage for each rainfall in turn, reusing its buffers.
