@@ -240,6 +240,88 @@ fn moss_keeps_to_the_foot_of_the_wall_and_the_ledge_tops() {
     );
 }
 
+/// Mean coverage of the first layer named `name` over the wall pixels
+/// where `inside` holds, and over the rest of the wall.
+fn mean_in(
+    out: &Outcome,
+    scene: &Scene,
+    name: &str,
+    inside: impl Fn(u32, u32) -> bool,
+) -> (f64, f64) {
+    let l = layers_named(out, name).next().unwrap();
+    let region = scene.region.as_deref();
+    let (w, h) = scene.size();
+    let (mut a, mut na, mut b, mut nb) = (0.0f64, 0u32, 0.0f64, 0u32);
+    for y in 0..h {
+        for x in 0..w {
+            if region.is_some_and(|r| r.get_pixel(x, y)[0] == 0) {
+                continue;
+            }
+            let c = cover(l, x, y) as f64;
+            match inside(x, y) {
+                true => (a, na) = (a + c, na + 1),
+                false => (b, nb) = (b + c, nb + 1),
+            }
+        }
+    }
+    (a / na.max(1) as f64, b / nb.max(1) as f64)
+}
+
+#[test]
+fn moss_moves_toward_where_the_climate_is_humid() {
+    // Riihiaho's humidity is highest near the ground: with it, the lower
+    // third of the wall takes a larger share of the moss than without.
+    let lower_share = |by_humidity: f32| {
+        let mut p = Preset::default();
+        p.moss.by_humidity = by_humidity;
+        let (scene, out, _) = facade(&p);
+        let h = scene.size().1;
+        let (low, high) = mean_in(&out, &scene, "moss", |_, y| y > 2 * h / 3);
+        low / (low + high)
+    };
+    let (dry, humid) = (lower_share(0.0), lower_share(0.6));
+    assert!(
+        humid > dry + 0.05,
+        "lower share {dry:.3} without humidity, {humid:.3} with"
+    );
+}
+
+#[test]
+fn dust_keeps_to_the_shade() {
+    // A plain wall whose rows 100-149 lie in rain shelter, darker in the
+    // climate's light: with `by_light` < 0 they hold a larger share of the
+    // dust film.
+    let mut shelter = image::GrayImage::new(400, 300);
+    for y in 100..150 {
+        for x in 0..400 {
+            shelter.put_pixel(x, y, image::Luma([255]));
+        }
+    }
+    let photo = RgbImage::from_pixel(400, 300, Rgb([180, 170, 150]));
+    let scene = Scene::new(Photo::new(DynamicImage::ImageRgb8(photo)), None)
+        .unwrap()
+        .with_site(Site {
+            shelter: Some(std::sync::Arc::new(shelter)),
+            ..Site::assumed(400)
+        })
+        .unwrap();
+    let shade_share = |by_light: f32| {
+        let mut p = Preset::default();
+        p.moss.enabled = false;
+        p.rain.layers = 0;
+        p.dust.by_light = by_light;
+        p.dust.open_wall = 0.3;
+        let out = pipeline::run(&scene, &p, &Progress::none()).unwrap();
+        let (shade, open) = mean_in(&out, &scene, "dust film", |_, y| (100..150).contains(&y));
+        shade / (shade + open)
+    };
+    let (plain, shaded) = (shade_share(0.0), shade_share(-1.0));
+    assert!(
+        shaded > plain + 0.02,
+        "shade share {plain:.3} without light, {shaded:.3} with"
+    );
+}
+
 /// A plain wall, 400 x 300, at `metres_per_pixel`.
 fn plain(metres_per_pixel: f32) -> Scene {
     let photo = RgbImage::from_pixel(400, 300, Rgb([180, 170, 150]));

@@ -12,7 +12,7 @@ use super::dust::{DustState, DustStats};
 use super::region::Region;
 use crate::error::Result;
 use crate::field::RowMajor;
-use crate::preset::{DustParams, MossParams};
+use crate::preset::{ClimateParams, DustParams, MossParams, Preset};
 use crate::progress::Progress;
 
 /// The state kept between frames.
@@ -20,10 +20,11 @@ use crate::progress::Progress;
 pub struct Carry {
     /// The dust so far, with its params (days aside) and seed.
     dust: Option<(DustParams, u64, DustState)>,
-    /// Where dust settles ([`super::habitat`]), at photo size.
-    settle: Option<((f32, f32), GrayImage)>,
-    /// Where moss takes, with its params (years aside) and seed.
-    habitat: Option<((MossParams, u64), RowMajor<f32>)>,
+    /// Where dust settles ([`super::habitat`]), at photo size, with what
+    /// it was made from.
+    settle: Option<((f32, f32, f32, ClimateParams), GrayImage)>,
+    /// Where moss takes, with its params (years aside), seed and climate.
+    habitat: Option<((MossParams, u64, ClimateParams), RowMajor<f32>)>,
 }
 
 impl Carry {
@@ -56,29 +57,34 @@ impl Carry {
         Ok(out)
     }
 
-    /// Where dust settles for `open_wall` and `ledge_top_m`, made by `make`
-    /// the first time.
+    /// Where dust settles for `p`'s `open_wall`, `ledge_top_m` and
+    /// `by_light` under `climate`, made by `make` the first time.
     pub(crate) fn settle(
         &mut self,
         p: &DustParams,
+        climate: &ClimateParams,
         make: impl FnOnce() -> GrayImage,
     ) -> &GrayImage {
-        kept(&mut self.settle, (p.open_wall, p.ledge_top_m), make)
+        let key = (p.open_wall, p.ledge_top_m, p.by_light, climate.clone());
+        kept(&mut self.settle, key, make)
     }
 
-    /// Where moss takes for `p` (its years aside) and `seed`, made by
-    /// `make` the first time.
+    /// Where moss takes for the preset's moss (its years aside), seed and
+    /// climate, made by `make` the first time.
     pub(crate) fn habitat(
         &mut self,
-        p: &MossParams,
-        seed: u64,
+        preset: &Preset,
         make: impl FnOnce() -> RowMajor<f32>,
     ) -> &RowMajor<f32> {
         let key = MossParams {
             years: 0,
-            ..p.clone()
+            ..preset.moss.clone()
         };
-        kept(&mut self.habitat, (key, seed), make)
+        kept(
+            &mut self.habitat,
+            (key, preset.seed, preset.climate.clone()),
+            make,
+        )
     }
 }
 

@@ -113,12 +113,10 @@ pub fn maps(ctx: &Context, p: &ClimateParams) -> Climate {
     let global = accessibility(ctx, (ctx.grid_px(1.0).round() as usize).max(2));
     let suns = suns(p);
     let height = heights(ctx);
-    let mut light = RowMajor::filled(gw, gh, 0.0);
-    let mut indirect = RowMajor::filled(gw, gh, 0.0);
-    let mut humidity = RowMajor::filled(gw, gh, 0.0);
-    for y in 0..gh {
-        for x in 0..gw {
-            let i = y * gw + x;
+    let cells: Vec<[f32; 3]> = (0..gw * gh)
+        .into_par_iter()
+        .map(|i| {
+            let (x, y) = (i % gw, i / gw);
             let (px, py) = ctx.grid.to_photo(x as f32 + 0.5, y as f32 + 0.5);
             let shelter = ctx.site.shelter_at(px as u32, py as u32);
             // The sky is harder to reach under a ledge.
@@ -134,15 +132,15 @@ pub fn maps(ctx: &Context, p: &ClimateParams) -> Climate {
                 + p.base_humidity;
             let s = |v| sigmoid(v, p.indirect_offset, p.indirect_steepness);
             let beta = p.c1 * s(a_g) + p.c2 * l_d + p.c3 * l_i;
-            light.data_mut()[i] = l_d;
-            indirect.data_mut()[i] = l_i;
-            humidity.data_mut()[i] = (p.humidity_scale * (alpha - beta)).clamp(0.0, 1.0);
-        }
-    }
+            let h = (p.humidity_scale * (alpha - beta)).clamp(0.0, 1.0);
+            [l_d, l_i, h]
+        })
+        .collect();
+    let map = |k: usize| RowMajor::new(gw, gh, cells.iter().map(|c| c[k]).collect());
     Climate {
-        light,
-        indirect,
-        humidity,
+        light: map(0),
+        indirect: map(1),
+        humidity: map(2),
     }
 }
 
@@ -170,27 +168,71 @@ pub fn heights(ctx: &Context) -> RowMajor<f32> {
     z
 }
 
-/// Box blur of radius `r` (separable, clamped at the borders).
+/// How much more (or less) an effect takes at each cell because of a
+/// climate map `m` (humidity or light), by Riihiaho's environment
+/// (sec. 3, `e = encourage - discourage`) with weight `k`: `1 + k (m / m_mean - 1)`, clamped to
+/// [0, 2], with `m_mean` the map's mean over the region [choice: relative to
+/// the wall's own mean, so the climate moves an effect around the wall
+/// without changing how much of it there is; negative `k` discourages].
+/// 1 everywhere when `k` is 0 or the map is 0 on the wall.
+pub fn encouragement(m: &RowMajor<f32>, region: &RowMajor<bool>, k: f32) -> RowMajor<f32> {
+    let (sum, n) = m
+        .data()
+        .iter()
+        .zip(region.data())
+        .filter(|(_, r)| **r)
+        .fold((0.0f64, 0usize), |(s, n), (v, _)| (s + *v as f64, n + 1));
+    let mean = (sum / n.max(1) as f64) as f32;
+    let values = m
+        .data()
+        .iter()
+        .map(|&v| match mean > 1e-6 {
+            true => (1.0 + k * (v / mean - 1.0)).clamp(0.0, 2.0),
+            false => 1.0,
+        })
+        .collect();
+    RowMajor::new(m.width(), m.height(), values)
+}
+
+/// Box blur of radius `r` (separable, clamped at the borders): a running
+/// sum along each row, then one down the columns, a whole row at a time.
 pub fn blur(v: &RowMajor<f32>, r: usize) -> RowMajor<f32> {
     let (w, h) = (v.width(), v.height());
-    let pass = |get: &dyn Fn(usize, usize) -> f32, along: usize, across: usize| -> Vec<f32> {
-        let mut out = vec![0.0; along * across];
-        for j in 0..across {
+    let n = (2 * r + 1) as f32;
+    let mut rows = vec![0.0; w * h];
+    rows.par_chunks_mut(w)
+        .zip(v.data().par_chunks(w))
+        .for_each(|(out, src)| {
+            let at = |i: isize| src[i.clamp(0, w as isize - 1) as usize];
             let mut sum = 0.0;
-            let at = |i: isize| get(i.clamp(0, along as isize - 1) as usize, j);
             for i in -(r as isize)..=(r as isize) {
                 sum += at(i);
             }
-            for i in 0..along {
-                out[j * along + i] = sum / (2 * r + 1) as f32;
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = sum / n;
                 sum += at(i as isize + r as isize + 1) - at(i as isize - r as isize);
             }
-        }
-        out
+        });
+    let row = |y: isize| {
+        let y = y.clamp(0, h as isize - 1) as usize;
+        &rows[y * w..(y + 1) * w]
     };
-    let rows = pass(&|i, j| v.get(i, j), w, h);
-    let cols = pass(&|i, j| rows[i * w + j], h, w);
-    RowMajor::from_fn(w, h, |x, y| cols[x * h + y])
+    let mut sum = vec![0.0f32; w];
+    for y in -(r as isize)..=(r as isize) {
+        sum.iter_mut().zip(row(y)).for_each(|(s, v)| *s += v);
+    }
+    let mut out = vec![0.0; w * h];
+    for (y, line) in out.chunks_exact_mut(w).enumerate() {
+        let (add, drop) = (
+            row(y as isize + r as isize + 1),
+            row(y as isize - r as isize),
+        );
+        for (((o, s), a), d) in line.iter_mut().zip(sum.iter_mut()).zip(add).zip(drop) {
+            *o = *s / n;
+            *s += a - d;
+        }
+    }
+    RowMajor::new(w, h, out)
 }
 
 #[cfg(test)]
@@ -216,6 +258,33 @@ mod tests {
         let s = suns(&p);
         assert!((s[0][2] - 1.0).abs() < 1e-6);
         assert!((s[1][0] - 0.5).abs() < 1e-5 && (s[2][0] + 0.5).abs() < 1e-5);
+    }
+
+    #[test]
+    fn encouragement_follows_the_map_around_its_wall_mean() {
+        let m = RowMajor::from_fn(4, 1, |x, _| [0.2, 0.4, 0.6, 0.0][x]);
+        let region = RowMajor::from_fn(4, 1, |x, _| x < 3);
+        let e = encouragement(&m, &region, 0.5);
+        // Mean over the wall 0.4: below it less, above it more, the mean
+        // cell unchanged; k = -0.5 mirrors it; k = 0 changes nothing.
+        assert!((e.get(0, 0) - 0.75).abs() < 1e-5);
+        assert!((e.get(1, 0) - 1.0).abs() < 1e-5);
+        assert!((e.get(2, 0) - 1.25).abs() < 1e-5);
+        let d = encouragement(&m, &region, -0.5);
+        assert!((d.get(0, 0) - 1.25).abs() < 1e-5 && (d.get(2, 0) - 0.75).abs() < 1e-5);
+        assert!(
+            encouragement(&m, &region, 0.0)
+                .data()
+                .iter()
+                .all(|&v| v == 1.0)
+        );
+        let dry = RowMajor::filled(4, 1, 0.0);
+        assert!(
+            encouragement(&dry, &region, 1.0)
+                .data()
+                .iter()
+                .all(|&v| v == 1.0)
+        );
     }
 
     #[test]

@@ -293,6 +293,27 @@ pub struct Products {
     /// What a time-lapse's frames carry from one to the next (the dust so
     /// far, maps that do not age); `None` in a plain run.
     pub carry: Option<Box<carry::Carry>>,
+    /// The sun and humidity maps, with the params they were made from.
+    pub(crate) climate: Option<(crate::preset::ClimateParams, Arc<climate::Climate>)>,
+}
+
+impl Products {
+    /// The climate maps for `p` ([`climate::maps`]), made once per run and
+    /// shared by the effects that read them.
+    pub fn climate(
+        &mut self,
+        ctx: &Context,
+        p: &crate::preset::ClimateParams,
+    ) -> Arc<climate::Climate> {
+        match &self.climate {
+            Some((made, maps)) if made == p => maps.clone(),
+            _ => {
+                let maps = Arc::new(climate::maps(ctx, p));
+                self.climate = Some((p.clone(), maps.clone()));
+                maps
+            }
+        }
+    }
 }
 
 /// What one effect made.

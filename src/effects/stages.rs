@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use super::moss::{self, MossInput, Wet};
 use super::rain::{self, RainInput, sources::Release};
-use super::{Context, Effect, Produced, Products, Stats, dust, habitat, surface};
+use super::{Context, Effect, Produced, Products, Stats, climate, dust, habitat, surface};
 use crate::error::Result;
 use crate::field::{ColumnMajor, RowMajor};
 use crate::preset::Preset;
@@ -281,11 +281,13 @@ pub(super) fn moss(
             d_max: moss::d_max(&r.dirt, ctx.region, preset.stain.percentile),
         });
     let p = &preset.moss;
+    let climate = (p.by_humidity != 0.0).then(|| products.climate(ctx, &preset.climate));
+    let humid = encouragement(ctx, climate.as_deref(), p.by_humidity, |c| &c.humidity);
     let made;
     let habitat = match products.carry.as_deref_mut() {
-        Some(carry) => carry.habitat(p, preset.seed, || moss_habitat(ctx, p, preset.seed)),
+        Some(carry) => carry.habitat(preset, || moss_habitat(ctx, preset, humid)),
         None => {
-            made = moss_habitat(ctx, p, preset.seed);
+            made = moss_habitat(ctx, preset, humid);
             &made
         }
     };
@@ -334,8 +336,10 @@ pub(super) fn moss(
 /// Where moss takes (see [`habitat`]): 1 in the splash zone and on ledge
 /// tops, a little less in joints, `open_wall` on the rest of the wall; the
 /// rain shelter stays dry (`how-facades-age.md`), so joints there do not
-/// count.
-fn moss_habitat(ctx: &Context, p: &crate::preset::MossParams, seed: u64) -> RowMajor<f32> {
+/// count. The climate's humidity then moves it (`humid`, by
+/// `by_humidity`).
+fn moss_habitat(ctx: &Context, preset: &Preset, humid: RowMajor<f32>) -> RowMajor<f32> {
+    let (p, seed) = (&preset.moss, preset.seed);
     let mut map = habitat::splash(ctx, p.splash_m);
     let tops = habitat::ledge_tops(ctx, p.ledge_top_m);
     let joints = habitat::joints(ctx);
@@ -356,9 +360,23 @@ fn moss_habitat(ctx: &Context, p: &crate::preset::MossParams, seed: u64) -> RowM
     let noise = crate::random::Noise::new(key, w as u32, h as u32, ctx.grid_px(PATCH_M), 3);
     for (i, v) in map.data_mut().iter_mut().enumerate() {
         let patch = (1.6 * noise.at((i % w) as f32, (i / w) as f32) - 0.3).clamp(0.2, 1.0);
-        *v = (*v * patch).max(p.open_wall);
+        *v = ((*v * humid.data()[i]).min(1.0) * patch).max(p.open_wall);
     }
     map
+}
+
+/// The climate's encouragement of an effect by one of its maps, weight
+/// `k` (see [`climate::encouragement`]); 1 everywhere without a climate.
+fn encouragement(
+    ctx: &Context,
+    climate: Option<&climate::Climate>,
+    k: f32,
+    map: impl FnOnce(&climate::Climate) -> &RowMajor<f32>,
+) -> RowMajor<f32> {
+    match climate {
+        Some(c) => climate::encouragement(map(c), ctx.region, k),
+        None => RowMajor::filled(ctx.grid.width, ctx.grid.height, 1.0),
+    }
 }
 
 /// Colonies narrower than this many pixels are softened.
@@ -389,11 +407,13 @@ pub(super) fn dust(
         None => dust::accumulate(ctx.wall, ctx.normals, p, preset.seed, progress)?,
     };
     if p.open_wall < 1.0 {
+        let climate = (p.by_light != 0.0).then(|| products.climate(ctx, &preset.climate));
+        let light = encouragement(ctx, climate.as_deref(), p.by_light, |c| &c.light);
         let made;
         let settle = match products.carry.as_deref_mut() {
-            Some(carry) => carry.settle(p, || dust_settle(ctx, p)),
+            Some(carry) => carry.settle(p, &preset.climate, || dust_settle(ctx, p, light)),
             None => {
-                made = dust_settle(ctx, p);
+                made = dust_settle(ctx, p, light);
                 &made
             }
         };
@@ -431,14 +451,24 @@ pub(super) fn dust(
 }
 
 /// How much dust settles per photo pixel, 0..255: 255 on ledge tops, half
-/// that in rain shelter, `open_wall` on the rest.
-fn dust_settle(ctx: &Context, p: &crate::preset::DustParams) -> image::GrayImage {
+/// that in rain shelter, `open_wall` on the rest; the climate's light then
+/// moves it (`light`, by `by_light`; at most 255).
+fn dust_settle(
+    ctx: &Context,
+    p: &crate::preset::DustParams,
+    light: RowMajor<f32>,
+) -> image::GrayImage {
     let mut settle = habitat::ledge_tops(ctx, p.ledge_top_m);
     let shelter = habitat::shelter(ctx);
-    for (v, s) in settle.data_mut().iter_mut().zip(shelter.data()) {
+    for ((v, s), l) in settle
+        .data_mut()
+        .iter_mut()
+        .zip(shelter.data())
+        .zip(light.data())
+    {
         // [choice] Shelter half as much as a ledge top: the analysis's
         // shelter is a coarse band, and soot there is a tone, not a coat.
-        *v = p.open_wall + (1.0 - p.open_wall) * v.max(0.5 * s);
+        *v = ((p.open_wall + (1.0 - p.open_wall) * v.max(0.5 * s)) * l).min(1.0);
     }
     let (w, h) = ctx.size();
     ctx.grid.upsample(&settle, ctx.mask, w, h)

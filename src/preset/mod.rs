@@ -349,6 +349,10 @@ pub struct MossParams {
     /// How much moss the open wall takes, 0..1, against 1 in the splash
     /// zone, on ledge tops, in joints and in shelter.
     pub open_wall: f32,
+    /// How much the climate's humidity (`climate.*`, Riihiaho eq. 3.8)
+    /// moves moss toward the wet, shaded wall and off the dry, sunlit one;
+    /// 0 = not at all.
+    pub by_humidity: f32,
     /// Mix species: grey-green lichen, dark moss and orange Caloplaca
     /// besides `color`.
     pub mixed_species: bool,
@@ -385,6 +389,7 @@ impl Default for MossParams {
             splash_m: 0.4,
             ledge_top_m: 0.15,
             open_wall: 0.0,
+            by_humidity: 0.3,
             mixed_species: true,
             iterations: 3,
             peak: 0.45,
@@ -496,6 +501,10 @@ pub struct DustParams {
     pub open_wall: f32,
     /// Depth of the dusty band on top of each ledge, metres.
     pub ledge_top_m: f32,
+    /// How much the climate's direct light (`climate.*`, Riihiaho eq. 3.5)
+    /// moves dust: negative keeps it in the shade and recesses, off the
+    /// sunlit open wall; 0 = not at all.
+    pub by_light: f32,
 }
 
 impl Default for DustParams {
@@ -521,6 +530,7 @@ impl Default for DustParams {
             granule_opacity: 0.5,
             open_wall: 0.02,
             ledge_top_m: 0.06,
+            by_light: -0.5,
         }
     }
 }

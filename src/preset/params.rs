@@ -433,6 +433,13 @@ pub(super) const CORE: &[ParamSpec] = &[
         1.0,
     ),
     p(
+        "moss.by_humidity",
+        "",
+        "How much the climate's humidity (wet near the ground, dried by sun and air) moves moss onto the wet, shaded wall; 0 = not at all",
+        -2.0,
+        2.0,
+    ),
+    p(
         "moss.mixed_species",
         "",
         "Mix grey-green lichen, dark moss and orange Caloplaca with moss.color",

@@ -140,6 +140,13 @@ pub(super) const DUST_AND_GAMMATON: &[ParamSpec] = &[
         2.0,
     ),
     p(
+        "dust.by_light",
+        "",
+        "How much the climate's direct light moves dust: negative keeps it in shade and recesses, off the sunlit wall; 0 = not at all",
+        -2.0,
+        2.0,
+    ),
+    p(
         "dust.arc_share",
         "",
         "Share of arcs among coarse elements (Santos alg. 1)",

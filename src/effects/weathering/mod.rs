@@ -65,12 +65,12 @@ pub fn strength(e: &RowMajor<f32>, p: &GeneratorParams, lo: f32, hi: f32) -> Row
 /// The generators as a pipeline stage: a layer each.
 pub(super) fn stage(
     ctx: &Context,
-    _: &mut Products,
+    products: &mut Products,
     preset: &Preset,
     progress: &Progress,
 ) -> Result<Produced> {
     progress.update("sun and humidity", 0.0);
-    let climate = climate::maps(ctx, &preset.climate);
+    let climate = products.climate(ctx, &preset.climate);
     let (w, h) = ctx.size();
     let mean = |m: &RowMajor<f32>| {
         let (s, n) = m
