@@ -89,7 +89,7 @@ pub fn ledge_tops(ctx: &Context, depth_m: f32) -> RowMajor<f32> {
 }
 
 /// The row of a polyline (left to right) at column `x`, if `x` is within it.
-fn row_at(line: &[[f32; 2]], x: f32) -> Option<f32> {
+pub(crate) fn row_at(line: &[[f32; 2]], x: f32) -> Option<f32> {
     line.windows(2).find_map(|pair| {
         let (a, b) = (pair[0], pair[1]);
         let (lo, hi) = (a[0].min(b[0]), a[0].max(b[0]));
@@ -104,23 +104,46 @@ fn row_at(line: &[[f32; 2]], x: f32) -> Option<f32> {
     })
 }
 
-/// Joints and cracks: how much darker each cell is than its surroundings.
+/// Joints and cracks: how much darker each cell is than the wall on
+/// *both* sides of it, across or along (a valley), as a share of their
+/// luminance [choice: darker than the mean around it also took the shaded
+/// side of every step, a pilaster's or a reveal's, and grew moss in
+/// vertical lines down every shadow edge].
 pub fn joints(ctx: &Context) -> RowMajor<f32> {
-    let radius = (ctx.grid_px(JOINT_M) * 2.0).round().max(1.0) as usize;
-    let mean = super::moss::box_mean(ctx.luma, ctx.region, radius);
-    let values = ctx
-        .luma
-        .data()
-        .par_iter()
-        .zip(mean.data())
-        .map(|(&l, &m)| {
-            if m <= 0.0 {
-                return 0.0;
+    let r = (ctx.grid_px(JOINT_M) * 2.0).round().max(1.0) as usize;
+    let (w, h) = (ctx.grid.width, ctx.grid.height);
+    let (luma, region) = (ctx.luma, ctx.region);
+    // The wall's luminance at (x, y), if it is wall.
+    let at = |x: usize, y: usize| region.get(x, y).then(|| luma.get(x, y));
+    let depth = |l: f32, a: Option<f32>, b: Option<f32>| match (a, b) {
+        (Some(a), Some(b)) if a.min(b) > 0.0 => {
+            let m = 0.5 * (a + b);
+            ((a.min(b) - l) / m - JOINT_START) / JOINT_DEPTH
+        }
+        _ => 0.0,
+    };
+    let mut out = RowMajor::filled(w, h, 0.0);
+    out.data_mut()
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for (x, v) in row.iter_mut().enumerate() {
+                if !region.get(x, y) {
+                    continue;
+                }
+                let l = luma.get(x, y);
+                let across = match x >= r && x + r < w {
+                    true => depth(l, at(x - r, y), at(x + r, y)),
+                    false => 0.0,
+                };
+                let along = match y >= r && y + r < h {
+                    true => depth(l, at(x, y - r), at(x, y + r)),
+                    false => 0.0,
+                };
+                *v = across.max(along).clamp(0.0, 1.0);
             }
-            (((m - l) / m - JOINT_START) / JOINT_DEPTH).clamp(0.0, 1.0)
-        })
-        .collect();
-    RowMajor::new(ctx.grid.width, ctx.grid.height, values)
+        });
+    out
 }
 
 /// The rain shelter on the grid.

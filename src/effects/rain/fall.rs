@@ -31,10 +31,10 @@ pub fn fade(
     // Per column, the rows of the sources crossing it.
     let mut rows: Vec<Vec<f32>> = vec![Vec::new(); width];
     for line in lines.iter().filter(|l| !l.is_empty()) {
-        let mut line = line.clone();
-        line.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let x_lo = line.iter().map(|p| p.0).fold(f32::MAX, f32::min) - reach;
-        let x_hi = line.iter().map(|p| p.0).fold(f32::MIN, f32::max) + reach;
+        let mut line: Vec<[f32; 2]> = line.iter().map(|&(x, y)| [x, y]).collect();
+        line.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        let x_lo = line[0][0] - reach;
+        let x_hi = line[line.len() - 1][0] + reach;
         let first = x_lo.floor().max(0.0) as usize;
         let last = (x_hi.ceil().max(0.0) as usize).min(width.saturating_sub(1));
         for (x, column) in rows.iter_mut().enumerate().take(last + 1).skip(first) {
@@ -92,27 +92,13 @@ pub fn widen(narrow: &mut RowMajor<f32>, wide: &RowMajor<f32>, fade: &RowMajor<f
         });
 }
 
-/// The row at column `x` of a polyline sorted by x (clamped to its ends).
-fn row_at(pts: &[(f32, f32)], x: f32) -> f32 {
+/// The row at column `x` of a polyline sorted by x, clamped to its ends.
+fn row_at(pts: &[[f32; 2]], x: f32) -> f32 {
     let (first, last) = (pts[0], pts[pts.len() - 1]);
-    if x <= first.0 {
-        return first.1;
-    }
-    if x >= last.0 {
-        return last.1;
-    }
-    for pair in pts.windows(2) {
-        let (a, b) = (pair[0], pair[1]);
-        if x >= a.0 && x <= b.0 {
-            let t = if b.0 > a.0 {
-                (x - a.0) / (b.0 - a.0)
-            } else {
-                0.0
-            };
-            return a.1 + (b.1 - a.1) * t;
-        }
-    }
-    last.1
+    crate::effects::habitat::row_at(pts, x).unwrap_or(match x <= first[0] {
+        true => first[1],
+        false => last[1],
+    })
 }
 
 #[cfg(test)]
