@@ -20,7 +20,7 @@ pub fn to_u16(v: f32) -> u16 {
 /// below 2^22), NaN to 0.
 #[inline]
 fn clamped(v: f32, max: f32) -> f32 {
-    if !(v >= 0.5) {
+    if v.is_nan() || v < 0.5 {
         return 0.0;
     }
     if v >= max {
@@ -62,7 +62,9 @@ mod tests {
         // float from 0.25 up to 1024, and a sweep.
         for k in 0..(1 << 17) {
             for v in [k as f32, k as f32 + 0.5] {
-                [v, v.next_down(), v.next_up(), -v].map(same);
+                [v, v.next_down(), v.next_up(), -v]
+                    .into_iter()
+                    .for_each(same);
             }
         }
         (0.25f32.to_bits()..1024f32.to_bits())
