@@ -41,6 +41,7 @@ pub mod preset;
 pub mod progress;
 pub mod random;
 pub mod recipe;
+pub mod round;
 pub mod say;
 pub mod stack;
 pub mod timelapse;

@@ -288,7 +288,7 @@ impl Channel for u8 {
         self as f32
     }
     fn from_level(v: f32) -> Self {
-        v.round().clamp(0.0, 255.0) as u8
+        crate::round::to_u8(v)
     }
 }
 
@@ -297,47 +297,62 @@ impl Channel for u16 {
         self as f32
     }
     fn from_level(v: f32) -> Self {
-        v.round().clamp(0.0, 65535.0) as u16
+        crate::round::to_u16(v)
     }
 }
 
 /// One layer over one pixel (channels in 0..1): `b + (blend(b, c) - b) * a`.
 #[inline]
-fn blend_pixel(mode: BlendMode, px: &mut [f32], c: [f32; 3], a: f32) {
+fn blend_pixel(blend: impl Fn(f32, f32) -> f32, px: &mut [f32], c: [f32; 3], a: f32) {
     for (b, c) in px.iter_mut().zip(c) {
-        *b += (mode.blend(*b, c) - *b) * a;
+        *b += (blend(*b, c) - *b) * a;
     }
 }
 
 /// Blends `layers` over row `y`: `acc` holds its levels (`channels` per
 /// pixel), `touched` whether a layer painted each pixel.
 fn blend_row(layers: &[&Layer], y: usize, channels: usize, acc: &mut [f32], touched: &mut [bool]) {
-    let wu = touched.len();
     for layer in layers {
-        // Alpha byte to effective alpha, opacity included.
-        let o = layer.opacity / 255.0;
-        match &layer.pixels {
-            LayerPixels::Tint { color, alpha } => {
-                let c = color.map(|v| v as f32 / 255.0);
-                let alpha = &alpha.as_raw()[y * wu..(y + 1) * wu];
-                for (x, &a) in alpha.iter().enumerate().filter(|(_, a)| **a != 0) {
-                    touched[x] = true;
-                    let px = &mut acc[x * channels..x * channels + 3];
-                    blend_pixel(layer.blend, px, c, a as f32 * o);
-                }
+        // One loop per mode (the mode's formula inlined in it).
+        let row = (*layer, y, channels, &mut *acc, &mut *touched);
+        match layer.blend {
+            BlendMode::Normal => blend_layer_row(row, |b, c| BlendMode::Normal.blend(b, c)),
+            BlendMode::Multiply => blend_layer_row(row, |b, c| BlendMode::Multiply.blend(b, c)),
+            BlendMode::Screen => blend_layer_row(row, |b, c| BlendMode::Screen.blend(b, c)),
+        }
+    }
+}
+
+/// One layer over row `y` (as [`blend_row`]), blending by `blend`.
+#[inline]
+fn blend_layer_row(
+    (layer, y, channels, acc, touched): (&Layer, usize, usize, &mut [f32], &mut [bool]),
+    blend: impl Fn(f32, f32) -> f32 + Copy,
+) {
+    let wu = touched.len();
+    // Alpha byte to effective alpha, opacity included.
+    let o = layer.opacity / 255.0;
+    match &layer.pixels {
+        LayerPixels::Tint { color, alpha } => {
+            let c = color.map(|v| v as f32 / 255.0);
+            let alpha = &alpha.as_raw()[y * wu..(y + 1) * wu];
+            for (x, &a) in alpha.iter().enumerate().filter(|(_, a)| **a != 0) {
+                touched[x] = true;
+                let px = &mut acc[x * channels..x * channels + 3];
+                blend_pixel(blend, px, c, a as f32 * o);
             }
-            LayerPixels::Rgba(img) => {
-                let src = &img.as_raw()[y * wu * 4..(y + 1) * wu * 4];
-                for (x, s) in src.chunks_exact(4).enumerate().filter(|(_, s)| s[3] != 0) {
-                    touched[x] = true;
-                    let c = [
-                        s[0] as f32 / 255.0,
-                        s[1] as f32 / 255.0,
-                        s[2] as f32 / 255.0,
-                    ];
-                    let px = &mut acc[x * channels..x * channels + 3];
-                    blend_pixel(layer.blend, px, c, s[3] as f32 * o);
-                }
+        }
+        LayerPixels::Rgba(img) => {
+            let src = &img.as_raw()[y * wu * 4..(y + 1) * wu * 4];
+            for (x, s) in src.chunks_exact(4).enumerate().filter(|(_, s)| s[3] != 0) {
+                touched[x] = true;
+                let c = [
+                    s[0] as f32 / 255.0,
+                    s[1] as f32 / 255.0,
+                    s[2] as f32 / 255.0,
+                ];
+                let px = &mut acc[x * channels..x * channels + 3];
+                blend_pixel(blend, px, c, s[3] as f32 * o);
             }
         }
     }

@@ -638,7 +638,7 @@ fn coverage(layer: &RgbaImage, region: &Region) -> f64 {
         .map(|(y, row)| {
             row.chunks_exact(4)
                 .enumerate()
-                .filter(|(x, _)| region.contains(*x as f32, y as f32))
+                .filter(|(x, px)| px[3] != 0 && region.contains(*x as f32, y as f32))
                 .map(|(_, px)| px[3] as u64)
                 .sum::<u64>()
         })

@@ -129,6 +129,16 @@ impl<'a> Region<'a> {
         (r.x + (k - r.before) as u32, r.y)
     }
 
+    /// The row-major index (y width + x) of [`Region::nth`]`(k)`.
+    pub fn nth_index(&self, k: u64) -> u64 {
+        if self.mask.is_none() {
+            return k;
+        }
+        let i = self.runs.partition_point(|r| r.before <= k) - 1;
+        let r = self.runs[i];
+        r.y as u64 * self.width as u64 + r.x as u64 + (k - r.before)
+    }
+
     /// A uniformly random wall pixel.
     pub fn sample(&self, rng: &mut Rng) -> (u32, u32) {
         self.nth(rng.random_range(0..self.area))
@@ -187,6 +197,11 @@ mod tests {
             .collect();
         let got: Vec<_> = (0..r.area()).map(|k| r.nth(k)).collect();
         assert_eq!(got, want);
+        for (k, (x, y)) in want.iter().enumerate() {
+            assert_eq!(r.nth_index(k as u64), (y * 7 + x) as u64);
+        }
+        let plain = Region::new(7, 5, None).unwrap();
+        assert_eq!(plain.nth_index(12), 12);
         assert!(Region::new(7, 5, Some(&GrayImage::new(7, 5))).is_err());
         assert!(Region::new(6, 5, Some(&mask)).is_err());
     }

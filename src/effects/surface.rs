@@ -54,7 +54,7 @@ pub fn modulate(layer: &mut RgbaImage, photo: &Photo, l_wall: f32) {
                 }
                 let gain = (l / l_wall).min(MAX_GAIN);
                 for c in &mut px[..3] {
-                    *c = (*c as f32 * gain).round().clamp(0.0, 255.0) as u8;
+                    *c = crate::round::to_u8(*c as f32 * gain);
                 }
             }
         },

@@ -82,7 +82,7 @@ pub fn parse_size(text: &str) -> std::result::Result<u64, String> {
 /// rainfalls composited once (13 B/px), the dust carried between frames
 /// and a frame's own layers and composite (BENCHMARKS.md, "Time-lapse
 /// (issue 15)").
-pub const TIMELAPSE_BYTES_PER_PIXEL: u64 = 110;
+pub const TIMELAPSE_BYTES_PER_PIXEL: u64 = 118;
 
 /// Estimated peak memory of ageing a `w` x `h` photo.
 pub fn estimate(w: u32, h: u32) -> u64 {
