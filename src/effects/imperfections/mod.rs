@@ -157,7 +157,17 @@ pub(super) fn stage(
     let mut layers = Vec::new();
     let mut generators = Vec::new();
     let steps = 7.0;
-    let mut push = |made: Made| {
+    // [choice] A generator's own colour is the material's in the wall's
+    // light: normal-blended colour layers take the photo's luminance over
+    // the wall's mean, as moss does, so rust and splotches are shaded and
+    // textured with the wall rather than flat cut-outs (blind review 7).
+    let l_wall = super::surface::wall_luma(ctx.luma, ctx.region);
+    let mut push = |mut made: Made| {
+        for l in &mut made.layers {
+            if let (BlendMode::Normal, LayerPixels::Rgba(img)) = (l.blend, &mut l.pixels) {
+                super::surface::modulate(img, ctx.photo, l_wall);
+            }
+        }
         layers.extend(made.layers);
         generators.push(made.coverage);
     };

@@ -391,3 +391,45 @@ fn corrosion_pits_densest_where_its_fbm_weight_is_strongest() {
         }
     });
 }
+
+#[test]
+fn colour_layers_take_the_walls_light() {
+    // A wall dark on its left half and light on its right: the same rust
+    // is darker over the dark half (modulated, not painted over).
+    let photo = crate::photo::Photo::new(image::DynamicImage::ImageLuma8(
+        image::GrayImage::from_fn(200, 100, |x, _| {
+            image::Luma([if x < 100 { 60 } else { 180 }])
+        }),
+    ));
+    let site = crate::pipeline::Site::assumed(200);
+    testing::with(&photo, None, &site, None, 0, |ctx| {
+        let mut preset = Preset::default();
+        for s in [
+            "rust.enabled=true",
+            "rust.coverage=0.5",
+            "rust.placement=\"everywhere\"",
+        ] {
+            preset.set(s).unwrap();
+        }
+        let made = stage(ctx, &mut Products::default(), &preset, &Progress::none()).unwrap();
+        let rust = made
+            .layers
+            .iter()
+            .find(|l| l.name == "rust")
+            .unwrap()
+            .to_rgba();
+        let mean_red = |xs: std::ops::Range<u32>| {
+            let (sum, n) = rust
+                .enumerate_pixels()
+                .filter(|(x, _, p)| xs.contains(x) && p[3] > 0)
+                .fold((0u64, 0u64), |(s, n), (_, _, p)| (s + p[0] as u64, n + 1));
+            assert!(n > 100, "{n} rust pixels");
+            sum as f32 / n as f32
+        };
+        let (dark, light) = (mean_red(0..100), mean_red(100..200));
+        assert!(
+            dark < 0.7 * light,
+            "rust red {dark} over the dark half, {light} over the light"
+        );
+    });
+}
