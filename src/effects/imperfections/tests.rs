@@ -433,3 +433,23 @@ fn colour_layers_take_the_walls_light() {
         );
     });
 }
+
+#[test]
+fn stains_fade_in_at_their_edge_and_are_darkest_just_inside_it() {
+    testing::facade(320, 240, |ctx| {
+        let p = BlotchParams {
+            enabled: true,
+            coverage: 0.3,
+            placement: Placement::Everywhere,
+            wet: 1.0,
+            ..BlotchParams::stains()
+        };
+        let placed = placement::place(ctx, p.place());
+        let (_, _, alpha) = blots::draw(ctx, &p, &placed, 8, Gen::Stains);
+        let rim = boundary(&alpha, &placed);
+        assert!(rim.len() > 50);
+        let mean = rim.iter().map(|&i| alpha.as_raw()[i] as f32).sum::<f32>() / rim.len() as f32;
+        let top = *alpha.as_raw().iter().max().unwrap() as f32;
+        assert!(mean < 0.5 * top, "rim alpha {mean}, strongest {top}");
+    });
+}
