@@ -12,7 +12,9 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
-use grime::analysis::eval::{self, IGNORE, Metrics, NEGATIVE, SKY, Truth, WALL_LABEL};
+use grime::analysis::eval::{
+    self, CAR, GROUND, IGNORE, Metrics, SKY, Truth, VEGETATION, WALL_LABEL,
+};
 use grime::analysis::{self, Options, synthetic};
 use grime::photo::Photo;
 
@@ -109,7 +111,9 @@ fn labelmefacade(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
             .map(|p| match p.0 {
                 [128, 0, 0] => WALL_LABEL,
                 [0, 128, 128] => SKY,
-                [128, 0, 128] | [128, 128, 128] | [128, 64, 0] | [0, 128, 0] => NEGATIVE,
+                [0, 128, 0] => VEGETATION,
+                [128, 128, 128] | [128, 64, 0] => GROUND,
+                [128, 0, 128] => CAR,
                 _ => IGNORE,
             })
             .collect();

@@ -18,6 +18,15 @@ pub const WALL_LABEL: u8 = 1;
 pub const SKY: u8 = 2;
 /// Truth label: any other negative (vegetation, road, pavement, car).
 pub const NEGATIVE: u8 = 3;
+/// Truth label: vegetation (a negative, also counted on its own).
+pub const VEGETATION: u8 = 4;
+/// Truth label: road or pavement (a negative, also counted on its own).
+pub const GROUND: u8 = 5;
+/// Truth label: a vehicle (a negative, also counted on its own).
+pub const CAR: u8 = 6;
+
+/// Names of the negative labels, index = label.
+const NEGATIVE_NAMES: [&str; 7] = ["", "", "sky", "other", "vegetation", "ground", "car"];
 
 /// A labelled ledge: its box in photo pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -68,6 +77,9 @@ pub struct Metrics {
     pub sky: u64,
     /// Sky pixels called wall.
     pub sky_wall: u64,
+    /// Per negative label (index = label, [`SKY`] to [`CAR`]): pixels,
+    /// and those called wall.
+    pub spill_by: [(u64, u64); 7],
     /// Labelled ledges.
     pub bands: usize,
     /// Labelled ledges found.
@@ -130,6 +142,9 @@ impl Metrics {
                 if !truth {
                     self.negatives += 1;
                     self.negatives_wall += p as u64;
+                    let by = &mut self.spill_by[(l as usize).min(6)];
+                    by.0 += 1;
+                    by.1 += p as u64;
                     if l == SKY {
                         self.sky += 1;
                         self.sky_wall += p as u64;
@@ -251,6 +266,11 @@ impl Metrics {
             let _ = writeln!(s, "wall IoU (mean) {:.3}", self.mean_iou());
             let _ = writeln!(s, "spill           {:.3}", self.spill());
             let _ = writeln!(s, "sky spill       {:.3}", self.sky_spill());
+            for (name, &(n, wall)) in NEGATIVE_NAMES.iter().zip(&self.spill_by).skip(3) {
+                if n > 0 {
+                    let _ = writeln!(s, "  spill {name:10} {:.3}", wall as f64 / n as f64);
+                }
+            }
         }
         if self.bands > 0 {
             let _ = writeln!(

@@ -50,6 +50,16 @@ const SKY_TEXTURE: f32 = 0.05;
 /// in the upper half.
 const CLEAR_BLUE: f32 = 0.25;
 
+/// Sky beyond a thin line is looked for within the long side over this
+/// (plus 2 pixels) of the sky found (measured on LabelMeFacade: 1% of the
+/// side finds less sky; with no limit white walls across the roof edge
+/// become sky).
+const SKY_REACH: usize = 50;
+
+/// Sky beyond a thin line is within this colour distance (L1, 0..3) of
+/// the mean colour of the sky found.
+const SKY_MATCH: f32 = 0.05;
+
 /// Vegetation is greener than this (excess green over the sum, ExG).
 const GREEN_EXCESS: f32 = 0.1;
 
@@ -145,10 +155,49 @@ fn sky(f: &Features) -> Vec<bool> {
         let [r, g, b] = f.rgb_at(i);
         b - r > CLEAR_BLUE && b > g && f.texture[i] < SKY_TEXTURE
     }));
-    let core = flood(&sky_cand, w, h, seeds, smooth_step);
+    let core = flood(&sky_cand, w, h, seeds.clone(), smooth_step);
+    // Sky cut off from the seeds by a wire, a lamp post or a branch.
+    let core = match across_lines(f, &core, &sky_cand) {
+        Some(more) => flood(&sky_cand, w, h, seeds.into_iter().chain(more).collect(), smooth_step),
+        None => core,
+    };
     // Then up to the roof edge, where the texture window already sees the roof.
     let seeds = (0..n).into_par_iter().filter(|&i| core[i]).collect();
     flood(&sky_colour, w, h, seeds, smooth_step)
+}
+
+/// More sky seeds beyond thin lines: smooth sky-coloured pixels (`cand`)
+/// of the upper half, not yet sky, within `SKY_REACH` of the sky found so
+/// far (`core`: across a wire, a lamp post, a branch) and of its mean colour
+/// (within `SKY_MATCH`). None when there are none.
+fn across_lines(f: &Features, core: &[bool], cand: &[bool]) -> Option<Vec<usize>> {
+    let (w, h) = (f.w, f.h);
+    let upper = h / 2 * w;
+    let found = core.par_iter().filter(|&&c| c).count();
+    if found == 0 || upper == 0 {
+        return None;
+    }
+    let mean: [f32; 3] = std::array::from_fn(|k| {
+        let sum: f64 = (0..w * h)
+            .into_par_iter()
+            .filter(|&i| core[i])
+            .map(|i| f.rgb[k][i] as f64)
+            .sum();
+        (sum / found as f64) as f32
+    });
+    let sky_share: Vec<f32> = core[..upper].par_iter().map(|&c| c as u8 as f32).collect();
+    let near = box_mean(&sky_share, w, h / 2, w.max(h) / SKY_REACH + 2);
+    let more: Vec<usize> = (0..upper)
+        .into_par_iter()
+        .filter(|&i| {
+            let c = f.rgb_at(i);
+            cand[i]
+                && !core[i]
+                && near[i] > 0.0
+                && (0..3).map(|k| (c[k] - mean[k]).abs()).sum::<f32>() < SKY_MATCH
+        })
+        .collect();
+    (!more.is_empty()).then_some(more)
 }
 
 /// Pixels of `cand` 4-connected to the seeds (indices into the row-major
