@@ -268,7 +268,11 @@ impl Metrics {
             let _ = writeln!(s, "sky spill       {:.3}", self.sky_spill());
             for (name, &(n, wall)) in NEGATIVE_NAMES.iter().zip(&self.spill_by).skip(3) {
                 if n > 0 {
-                    let _ = writeln!(s, "  spill {name:10} {:.3}", wall as f64 / n as f64);
+                    let _ = writeln!(
+                        s,
+                        "  spill {name:10} {:.3} ({wall}/{n} px)",
+                        wall as f64 / n as f64
+                    );
                 }
             }
         }

@@ -63,6 +63,12 @@ const SKY_MATCH: f32 = 0.05;
 /// Vegetation is greener than this (excess green over the sum, ExG).
 const GREEN_EXCESS: f32 = 0.1;
 
+/// Share of green-excess pixels around a pixel (within 0.5% of the long
+/// side) above which it is vegetation (measured on LabelMeFacade: 0.5
+/// left more trees as wall, spill 0.333 -> 0.325, IoU 0.616 -> 0.615; 0.3
+/// takes yellow and green-tinted walls, IoU 0.612).
+const VEGETATION_VOTE: f32 = 0.4;
+
 /// Below this share of non-wall pixels the photo is a close-up: all wall.
 const CLOSE_UP: f32 = 0.02;
 
@@ -93,7 +99,8 @@ pub fn classify(f: &Features) -> Vec<Class> {
                 }
             });
     }
-    // Vegetation: green excess, smoothed to a majority vote.
+    // Vegetation: green excess, smoothed by a vote (foliage has sky and
+    // bright leaves between its green).
     let veg_cand: Vec<f32> = (0..n)
         .into_par_iter()
         .map(|i| {
@@ -104,7 +111,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
         .collect();
     let veg = box_mean(&veg_cand, w, h, (w.max(h) / 200).max(1));
     class.par_iter_mut().zip(&veg).for_each(|(c, &v)| {
-        if v > 0.5 && *c == Class::Wall {
+        if v > VEGETATION_VOTE && *c == Class::Wall {
             *c = Class::Vegetation;
         }
     });
