@@ -159,8 +159,14 @@ fn cmp(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
                 .filter(|b| b.x1 - b.x0 >= 3.0 * (b.y1 - b.y0)),
         );
         for b in eval::components(&index, w, h, &[7], min_px) {
-            ledge_like.push(eval::Band { y1: b.y0 + 1.0, ..b });
-            ledge_like.push(eval::Band { y0: b.y1 - 1.0, ..b });
+            ledge_like.push(eval::Band {
+                y1: b.y0 + 1.0,
+                ..b
+            });
+            ledge_like.push(eval::Band {
+                y0: b.y1 - 1.0,
+                ..b
+            });
         }
         let truth = Truth {
             width: w as u32,

@@ -377,3 +377,67 @@ pub fn components(labels: &[u8], w: usize, h: usize, wanted: &[u8], min_px: usiz
 pub fn storey_from_windows(windows: &[Band], height: f32) -> Option<f32> {
     storey_px(windows.iter().map(|b| b.y0).collect(), height)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Ledge, Scale, ScaleSource, Timings};
+    use super::*;
+
+    fn analysis(ledges: Vec<Ledge>) -> Analysis {
+        Analysis {
+            width: 100,
+            height: 100,
+            analysis_width: 100,
+            analysis_height: 100,
+            matte: image::GrayImage::new(100, 100),
+            classes: Vec::new(),
+            wall_fraction: 1.0,
+            ledges,
+            shelter: Vec::new(),
+            scale: Scale {
+                metres_per_pixel: 0.01,
+                source: ScaleSource::Default,
+            },
+            timings: Timings::default(),
+        }
+    }
+
+    #[test]
+    fn the_lenient_precision_also_counts_other_ledge_like_elements() {
+        let at = |y: f32, kind| Ledge {
+            kind,
+            polyline: vec![[10.0, y], [50.0, y]],
+            confidence: 1.0,
+        };
+        let sill = Band {
+            x0: 10.0,
+            y0: 20.0,
+            x1: 50.0,
+            y1: 22.0,
+        };
+        let moulding = Band {
+            y0: 60.0,
+            y1: 62.0,
+            ..sill
+        };
+        let t = Truth {
+            width: 100,
+            height: 100,
+            ledges: vec![sill],
+            ledge_like: vec![sill, moulding],
+            ..Truth::default()
+        };
+        let a = analysis(vec![
+            at(21.0, LedgeKind::Sill),
+            at(61.0, LedgeKind::StringCourse),
+            at(90.0, LedgeKind::Sill),
+            at(61.0, LedgeKind::WindowHead),
+        ]);
+        let mut m = Metrics::default();
+        m.add(Some(&a), &t);
+        assert_eq!((m.detections, m.detections_ok), (3, 1));
+        assert_eq!(m.detections_lenient_ok, 2);
+        assert_eq!(m.by_kind[LedgeKind::WindowHead as usize], (1, 0));
+        assert!(m.report().contains("lenient       0.667"), "{}", m.report());
+    }
+}

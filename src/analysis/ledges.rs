@@ -414,6 +414,35 @@ mod tests {
     use crate::photo::Photo;
 
     #[test]
+    fn an_edge_between_a_windows_jambs_is_no_ledge_its_sill_is() {
+        // Wall 0.7; a window (glass 0.2, white jambs at x 60..64 and
+        // 136..140) with a meeting rail at y 136..140 over a short lower
+        // pane; below it the bottom rail, a sill wider than the window and
+        // its shadow ending at y 161.
+        let img = image::RgbImage::from_fn(200, 200, |x, y| {
+            let v = match (x, y) {
+                (60..64 | 136..140, 40..154) => 0.95,
+                (64..136, 136..140 | 150..154) => 0.95,
+                (64..136, 40..150) => 0.2,
+                (50..150, 154..158) => 0.9,
+                (50..150, 158..161) => 0.35,
+                _ => 0.7,
+            };
+            image::Rgb([(v * 255.0) as u8; 3])
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 200);
+        let ledges = detect(&f, &vec![Class::Wall; 200 * 200]);
+        let near = |y0: f32, y1: f32| {
+            ledges
+                .iter()
+                .filter(|l| l.kind != LedgeKind::WindowHead)
+                .any(|l| (y0..y1).contains(&l.polyline[0][1]))
+        };
+        assert!(!near(130.0, 150.0), "the meeting rail: {ledges:?}");
+        assert!(near(156.0, 163.0), "the sill: {ledges:?}");
+    }
+
+    #[test]
     fn a_dark_that_goes_on_below_is_a_window_head_a_thin_shadow_is_not() {
         // Wall 0.7; a ledge whose shadow ends 4 rows down at y 60; the top
         // of a tall opening (too big to be glass) at y 120.
