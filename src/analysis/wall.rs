@@ -162,16 +162,10 @@ fn sky(f: &Features) -> Vec<bool> {
         let [r, g, b] = f.rgb_at(i);
         b - r > CLEAR_BLUE && b > g && f.texture[i] < SKY_TEXTURE
     }));
-    let core = flood(&sky_cand, w, h, seeds.clone(), smooth_step);
+    let core = flood(&sky_cand, w, h, seeds, smooth_step);
     // Sky cut off from the seeds by a wire, a lamp post or a branch.
     let core = match across_lines(f, &core, &sky_cand) {
-        Some(more) => flood(
-            &sky_cand,
-            w,
-            h,
-            seeds.into_iter().chain(more).collect(),
-            smooth_step,
-        ),
+        Some(more) => grow(core, &sky_cand, w, h, more, smooth_step),
         None => core,
     };
     // Then up to the roof edge, where the texture window already sees the roof.
@@ -224,7 +218,19 @@ fn flood(
     seeds: Vec<usize>,
     step_ok: impl Fn(usize, usize) -> bool,
 ) -> Vec<bool> {
-    let mut seen = vec![false; w * h];
+    grow(vec![false; w * h], cand, w, h, seeds, step_ok)
+}
+
+/// [`flood`] that adds to an earlier flood's pixels `seen` (the same as
+/// flooding from both sets of seeds, without going over `seen` again).
+fn grow(
+    mut seen: Vec<bool>,
+    cand: &[bool],
+    w: usize,
+    h: usize,
+    seeds: Vec<usize>,
+    step_ok: impl Fn(usize, usize) -> bool,
+) -> Vec<bool> {
     let mut queue: VecDeque<usize> = VecDeque::new();
     for s in seeds {
         if cand[s] && !seen[s] {
