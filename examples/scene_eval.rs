@@ -12,7 +12,9 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
-use grime::analysis::eval::{self, IGNORE, Metrics, NEGATIVE, SKY, Truth, WALL_LABEL};
+use grime::analysis::eval::{
+    self, CAR, GROUND, IGNORE, Metrics, SKY, Truth, VEGETATION, WALL_LABEL,
+};
 use grime::analysis::{self, Options, synthetic};
 use grime::photo::Photo;
 
@@ -109,7 +111,9 @@ fn labelmefacade(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
             .map(|p| match p.0 {
                 [128, 0, 0] => WALL_LABEL,
                 [0, 128, 128] => SKY,
-                [128, 0, 128] | [128, 128, 128] | [128, 64, 0] | [0, 128, 0] => NEGATIVE,
+                [0, 128, 0] => VEGETATION,
+                [128, 128, 128] | [128, 64, 0] => GROUND,
+                [128, 0, 128] => CAR,
                 _ => IGNORE,
             })
             .collect();
@@ -125,7 +129,8 @@ fn labelmefacade(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
     Ok(out)
 }
 
-/// CMP base: palette-indexed labels (5 cornice, 6 sill, 3 window).
+/// CMP base: palette-indexed labels (5 cornice, 6 sill, 3 window; for the
+/// lenient precision 7 balcony, 10 molding).
 fn cmp(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
     let mut names: Vec<PathBuf> = std::fs::read_dir(dir)?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -144,11 +149,31 @@ fn cmp(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
         let min_px = (w * h) / 20000;
         let ledges = eval::components(&index, w, h, &[5, 6], min_px);
         let windows = eval::components(&index, w, h, &[3], min_px);
+        // Lenient: also horizontal mouldings (string courses; not the
+        // surrounds of windows) and the top and foot of each balcony.
+        let mut ledge_like = ledges.clone();
+        let runs = horizontal_runs(&index, w, 10, (w / 30).max(8));
+        ledge_like.extend(
+            eval::components(&runs, w, h, &[1], min_px)
+                .into_iter()
+                .filter(|b| b.x1 - b.x0 >= 3.0 * (b.y1 - b.y0)),
+        );
+        for b in eval::components(&index, w, h, &[7], min_px) {
+            ledge_like.push(eval::Band {
+                y1: b.y0 + 1.0,
+                ..b
+            });
+            ledge_like.push(eval::Band {
+                y0: b.y1 - 1.0,
+                ..b
+            });
+        }
         let truth = Truth {
             width: w as u32,
             height: h as u32,
             labels: None,
             ledges,
+            ledge_like,
             storey_px: eval::storey_from_windows(&windows, h as f32),
         };
         let stem = img
@@ -159,6 +184,26 @@ fn cmp(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
         out.push((stem, photo, truth));
     }
     Ok(out)
+}
+
+/// 1 where `label` runs along its row for at least `min_run` pixels (the
+/// horizontal parts of a moulding, not the jambs of a window surround).
+fn horizontal_runs(index: &[u8], w: usize, label: u8, min_run: usize) -> Vec<u8> {
+    let mut out = vec![0u8; index.len()];
+    for (row, o) in index.chunks_exact(w).zip(out.chunks_exact_mut(w)) {
+        let mut x = 0;
+        while x < w {
+            let start = x;
+            while x < w && row[x] == label {
+                x += 1;
+            }
+            if x - start >= min_run {
+                o[start..x].fill(1);
+            }
+            x = x.max(start + 1);
+        }
+    }
+    out
 }
 
 /// Palette indices of an indexed PNG: decoded to RGB, then mapped back

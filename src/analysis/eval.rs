@@ -18,6 +18,15 @@ pub const WALL_LABEL: u8 = 1;
 pub const SKY: u8 = 2;
 /// Truth label: any other negative (vegetation, road, pavement, car).
 pub const NEGATIVE: u8 = 3;
+/// Truth label: vegetation (a negative, also counted on its own).
+pub const VEGETATION: u8 = 4;
+/// Truth label: road or pavement (a negative, also counted on its own).
+pub const GROUND: u8 = 5;
+/// Truth label: a vehicle (a negative, also counted on its own).
+pub const CAR: u8 = 6;
+
+/// Names of the negative labels, index = label.
+const NEGATIVE_NAMES: [&str; 7] = ["", "", "sky", "other", "vegetation", "ground", "car"];
 
 /// A labelled ledge: its box in photo pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,6 +52,10 @@ pub struct Truth {
     pub labels: Option<Vec<u8>>,
     /// Sills and cornices.
     pub ledges: Vec<Band>,
+    /// Every labelled ledge-like element for the lenient precision (on CMP:
+    /// sills, cornices, horizontal mouldings, balcony tops and feet);
+    /// empty when the data has no such labels.
+    pub ledge_like: Vec<Band>,
     /// Storey height in pixels, where it can be read.
     pub storey_px: Option<f32>,
 }
@@ -64,16 +77,24 @@ pub struct Metrics {
     pub sky: u64,
     /// Sky pixels called wall.
     pub sky_wall: u64,
+    /// Per negative label (index = label, [`SKY`] to [`CAR`]): pixels,
+    /// and those called wall.
+    pub spill_by: [(u64, u64); 7],
     /// Labelled ledges.
     pub bands: usize,
     /// Labelled ledges found.
     pub bands_found: usize,
-    /// Detected sills, cornices and other ledges (not window heads or roof lines).
+    /// Detected sills, cornices and other ledges (not window heads or roof
+    /// lines: CMP labels neither).
     pub detections: usize,
     /// Detections that lie on a labelled ledge.
     pub detections_ok: usize,
-    /// Per kind (in [`LedgeKind`] order): detections, and those on a
-    /// labelled ledge.
+    /// Detections (as for the precision) on any labelled ledge-like element.
+    pub detections_lenient_ok: usize,
+    /// Photos with ledge-like labels (the lenient precision is reported).
+    pub lenient_images: usize,
+    /// Per kind (in [`LedgeKind`] order; window heads too, which the
+    /// precisions leave out): detections, and those on a labelled ledge.
     pub by_kind: [(usize, usize); 7],
     /// Photos with a storey height to compare with.
     pub scale_n: usize,
@@ -121,6 +142,9 @@ impl Metrics {
                 if !truth {
                     self.negatives += 1;
                     self.negatives_wall += p as u64;
+                    let by = &mut self.spill_by[(l as usize).min(6)];
+                    by.0 += 1;
+                    by.1 += p as u64;
                     if l == SKY {
                         self.sky += 1;
                         self.sky_wall += p as u64;
@@ -161,26 +185,34 @@ impl Metrics {
                 .count() as i64;
             self.bands_found += (2 * hit >= cols) as usize;
         }
-        for l in ledges {
-            if matches!(l.kind, LedgeKind::RoofLine | LedgeKind::WindowHead) {
-                continue;
-            }
-            self.detections += 1;
+        // A detection is on `bands` when at least half its columns are.
+        let on = |l: &super::Ledge, bands: &[Band]| {
             let (x0, x1) = (l.polyline[0][0], l.polyline[l.polyline.len() - 1][0]);
             let cols = ((x1 - x0) as i64).max(1);
             let hit = (0..cols)
                 .filter(|&k| {
                     let x = x0 + k as f32 + 0.5;
-                    y_at(&l.polyline, x).is_some_and(|y| {
-                        t.ledges.iter().any(|b| x >= b.x0 && x < b.x1 && near(b, y))
-                    })
+                    y_at(&l.polyline, x)
+                        .is_some_and(|y| bands.iter().any(|b| x >= b.x0 && x < b.x1 && near(b, y)))
                 })
                 .count() as i64;
-            let ok = 2 * hit >= cols;
-            self.detections_ok += ok as usize;
+            2 * hit >= cols
+        };
+        self.lenient_images += !t.ledge_like.is_empty() as usize;
+        for l in ledges {
+            if l.kind == LedgeKind::RoofLine {
+                continue;
+            }
+            let ok = on(l, &t.ledges);
             let k = &mut self.by_kind[l.kind as usize];
             k.0 += 1;
             k.1 += ok as usize;
+            if l.kind == LedgeKind::WindowHead {
+                continue;
+            }
+            self.detections += 1;
+            self.detections_ok += ok as usize;
+            self.detections_lenient_ok += (ok || on(l, &t.ledge_like)) as usize;
         }
         if let (Some(storey), Some(a)) = (t.storey_px, a) {
             self.scale_n += 1;
@@ -215,6 +247,12 @@ impl Metrics {
         self.detections_ok as f64 / self.detections.max(1) as f64
     }
 
+    /// Share of detections on any labelled ledge-like element (see
+    /// [`Truth::ledge_like`]): lenient, beside the strict [`Self::precision`].
+    pub fn lenient_precision(&self) -> f64 {
+        self.detections_lenient_ok as f64 / self.detections.max(1) as f64
+    }
+
     /// Share of scale estimates within a factor 1.5.
     pub fn scale_within(&self) -> f64 {
         self.scale_ok as f64 / self.scale_n.max(1) as f64
@@ -228,6 +266,15 @@ impl Metrics {
             let _ = writeln!(s, "wall IoU (mean) {:.3}", self.mean_iou());
             let _ = writeln!(s, "spill           {:.3}", self.spill());
             let _ = writeln!(s, "sky spill       {:.3}", self.sky_spill());
+            for (name, &(n, wall)) in NEGATIVE_NAMES.iter().zip(&self.spill_by).skip(3) {
+                if n > 0 {
+                    let _ = writeln!(
+                        s,
+                        "  spill {name:10} {:.3} ({wall}/{n} px)",
+                        wall as f64 / n as f64
+                    );
+                }
+            }
         }
         if self.bands > 0 {
             let _ = writeln!(
@@ -244,12 +291,26 @@ impl Metrics {
                 self.detections_ok,
                 self.detections
             );
+            if self.lenient_images > 0 {
+                let _ = writeln!(
+                    s,
+                    "  lenient       {:.3} ({}/{}: on any labelled ledge-like element)",
+                    self.lenient_precision(),
+                    self.detections_lenient_ok,
+                    self.detections
+                );
+            }
             for kind in KINDS {
                 let (n, ok) = self.by_kind[kind as usize];
                 if n > 0 {
+                    let aside = if kind == LedgeKind::WindowHead {
+                        " not in the precisions"
+                    } else {
+                        ""
+                    };
                     let _ = writeln!(
                         s,
-                        "  {:14} {:.3} ({ok}/{n})",
+                        "  {:14} {:.3} ({ok}/{n}){aside}",
                         kind.label(),
                         ok as f64 / n as f64
                     );
@@ -315,4 +376,68 @@ pub fn components(labels: &[u8], w: usize, h: usize, wanted: &[u8], min_px: usiz
 /// Storey height (pixels) from window boxes: the spacing of their rows.
 pub fn storey_from_windows(windows: &[Band], height: f32) -> Option<f32> {
     storey_px(windows.iter().map(|b| b.y0).collect(), height)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Ledge, Scale, ScaleSource, Timings};
+    use super::*;
+
+    fn analysis(ledges: Vec<Ledge>) -> Analysis {
+        Analysis {
+            width: 100,
+            height: 100,
+            analysis_width: 100,
+            analysis_height: 100,
+            matte: image::GrayImage::new(100, 100),
+            classes: Vec::new(),
+            wall_fraction: 1.0,
+            ledges,
+            shelter: Vec::new(),
+            scale: Scale {
+                metres_per_pixel: 0.01,
+                source: ScaleSource::Default,
+            },
+            timings: Timings::default(),
+        }
+    }
+
+    #[test]
+    fn the_lenient_precision_also_counts_other_ledge_like_elements() {
+        let at = |y: f32, kind| Ledge {
+            kind,
+            polyline: vec![[10.0, y], [50.0, y]],
+            confidence: 1.0,
+        };
+        let sill = Band {
+            x0: 10.0,
+            y0: 20.0,
+            x1: 50.0,
+            y1: 22.0,
+        };
+        let moulding = Band {
+            y0: 60.0,
+            y1: 62.0,
+            ..sill
+        };
+        let t = Truth {
+            width: 100,
+            height: 100,
+            ledges: vec![sill],
+            ledge_like: vec![sill, moulding],
+            ..Truth::default()
+        };
+        let a = analysis(vec![
+            at(21.0, LedgeKind::Sill),
+            at(61.0, LedgeKind::StringCourse),
+            at(90.0, LedgeKind::Sill),
+            at(61.0, LedgeKind::WindowHead),
+        ]);
+        let mut m = Metrics::default();
+        m.add(Some(&a), &t);
+        assert_eq!((m.detections, m.detections_ok), (3, 1));
+        assert_eq!(m.detections_lenient_ok, 2);
+        assert_eq!(m.by_kind[LedgeKind::WindowHead as usize], (1, 0));
+        assert!(m.report().contains("lenient       0.667"), "{}", m.report());
+    }
 }

@@ -82,8 +82,7 @@ impl Features {
                 *g = gx.abs() + (down[x] - up[x]).abs();
             }
         });
-        let r = (w.max(h) / 256).max(2);
-        let texture = box_mean(&grad, w, h, r);
+        let texture = box_mean(&grad, w, h, texture_radius(w, h));
         Features {
             w,
             h,
@@ -99,6 +98,12 @@ impl Features {
     pub fn rgb_at(&self, i: usize) -> [f32; 3] {
         [self.rgb[0][i], self.rgb[1][i], self.rgb[2][i]]
     }
+}
+
+/// Radius of the box the texture is averaged over (a thin line raises the
+/// texture this far on each side).
+pub fn texture_radius(w: usize, h: usize) -> usize {
+    (w.max(h) / 256).max(2)
 }
 
 /// The input pixels `[a, b)` that output pixel `o` of `n` covers in `len`.

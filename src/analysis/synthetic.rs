@@ -152,6 +152,7 @@ pub fn scene(seed: u64, w: u32, h: u32) -> Scene {
             height: h,
             labels: Some(labels),
             ledges,
+            ledge_like: Vec::new(),
             storey_px: Some(storey),
         },
     }
