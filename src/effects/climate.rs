@@ -176,13 +176,7 @@ pub fn heights(ctx: &Context) -> RowMajor<f32> {
 /// without changing how much of it there is; negative `k` discourages].
 /// 1 everywhere when `k` is 0 or the map is 0 on the wall.
 pub fn encouragement(m: &RowMajor<f32>, region: &RowMajor<bool>, k: f32) -> RowMajor<f32> {
-    let (sum, n) = m
-        .data()
-        .iter()
-        .zip(region.data())
-        .filter(|(_, r)| **r)
-        .fold((0.0f64, 0usize), |(s, n), (v, _)| (s + *v as f64, n + 1));
-    let mean = (sum / n.max(1) as f64) as f32;
+    let mean = super::surface::wall_mean(m, region).unwrap_or(0.0);
     let values = m
         .data()
         .iter()

@@ -24,17 +24,18 @@ const MAX_GAIN: f32 = 1.15;
 
 /// Mean luminance over the wall cells of the grid (128 when there are none).
 pub fn wall_luma(luma: &RowMajor<f32>, region: &RowMajor<bool>) -> f32 {
-    let (sum, n) = luma
+    wall_mean(luma, region).map_or(128.0, |m| m.max(1.0))
+}
+
+/// Mean of `values` over the wall cells of the grid, if there are any.
+pub fn wall_mean(values: &RowMajor<f32>, region: &RowMajor<bool>) -> Option<f32> {
+    let (sum, n) = values
         .data()
         .iter()
         .zip(region.data())
         .filter(|(_, r)| **r)
         .fold((0.0f64, 0u64), |(s, n), (l, _)| (s + *l as f64, n + 1));
-    if n == 0 {
-        128.0
-    } else {
-        (sum / n as f64).max(1.0) as f32
-    }
+    (n > 0).then(|| (sum / n as f64) as f32)
 }
 
 /// Multiplies each painted pixel of `layer` (alpha > 0) by the photo's

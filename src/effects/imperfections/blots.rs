@@ -11,23 +11,12 @@ use super::fractal::Fractal;
 use super::placement::Placed;
 use super::{Gen, alpha_byte, threshold};
 use crate::effects::Context;
+use crate::effects::rain::wall::NEIGHBOURS;
 use crate::preset::BlotchParams;
 use crate::stack::{BlendMode, LayerPixels};
 
 /// Share of the field's height over which a splotch fades in at its edge.
 const EDGE_FADE: f32 = 0.04;
-
-/// A pixel's 8 neighbours.
-const NEIGHBOURS: [(isize, isize); 8] = [
-    (-1, -1),
-    (0, -1),
-    (1, -1),
-    (-1, 0),
-    (1, 0),
-    (-1, 1),
-    (0, 1),
-    (1, 1),
-];
 
 /// The generator's field times the placement weight, per pixel.
 pub fn field(ctx: &Context, p: &BlotchParams, placed: &Placed, seed: u64, which: Gen) -> Vec<f32> {

@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use super::placement::{AREA, Placed};
 use super::{Coverage, Gen, Made, alpha_byte, layer, measured, threshold};
 use crate::effects::Context;
+use crate::effects::rain::wall::NEIGHBOURS;
 use crate::effects::region::Region;
 use crate::error::Result;
 use crate::field::RowMajor;
@@ -79,19 +80,10 @@ pub fn aggregate(g: &Ground, p: &RustParams, min_rusted: usize, seed: u64) -> Ag
                         continue;
                     }
                     let (xi, yi) = (x as isize, y as isize);
-                    let k = [
-                        (-1, -1),
-                        (0, -1),
-                        (1, -1),
-                        (-1, 0),
-                        (1, 0),
-                        (-1, 1),
-                        (0, 1),
-                        (1, 1),
-                    ]
-                    .iter()
-                    .filter(|(dx, dy)| was(xi + dx, yi + dy))
-                    .count();
+                    let k = NEIGHBOURS
+                        .iter()
+                        .filter(|(dx, dy)| was(xi + dx, yi + dy))
+                        .count();
                     let mut chance = p.p_interior + 1.0 - (1.0 - p.p_neighbour).powi(k as i32);
                     if g.sources.get(x, y) {
                         chance += p.p_edge;
