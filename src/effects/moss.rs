@@ -216,8 +216,7 @@ pub struct Moss {
     pub stats: MossStats,
 }
 
-/// Index of the per-year stream that draws eq. 18's candidate sites (colony
-/// indices use the others).
+/// The per-year stream of eq. 18's candidate sites (colonies use the others).
 const CANDIDATES: u64 = u64::MAX;
 /// Layer id of the streams that draw each colony's dots.
 const DOTS: u64 = 1 << 40;
@@ -554,10 +553,8 @@ fn render(
     progress: &Progress,
 ) -> Result<RgbaImage> {
     let (w, h) = (region.width() as usize, region.height() as usize);
-    // [choice] A dot smaller than a pixel is drawn a pixel wide with its
-    // own area's share of cover, so a colony a few pixels across (a street
-    // photo) is the soft partial tint it is at that scale, not a cluster of
-    // solid pixels (read as pasted specks in the blind reviews).
+    // [choice] A dot under a pixel covers its own area's share of one: a
+    // colony a few pixels across is a soft tint, not solid (pasted) specks.
     let true_r = p.dot_size * baseline;
     let r = true_r.max(0.5);
     let cover = (true_r / r).powi(2);
@@ -605,8 +602,7 @@ fn render(
     Ok(out)
 }
 
-/// One anti-aliased dot of radius `r` and opacity `cover`, composited over
-/// the band's accumulator.
+/// One anti-aliased dot of radius `r` and opacity `cover`, over the band.
 fn splat(d: &Dot, r: f32, cover: f32, y0: usize, n_rows: usize, w: usize, acc: &mut [[f32; 4]]) {
     let x_lo = (d.x - r - 0.5).floor().max(0.0) as usize;
     let x_hi = ((d.x + r + 0.5).ceil().max(0.0) as usize).min(w);
