@@ -166,21 +166,7 @@ impl Stack {
     /// an alpha channel in the photo is kept as is.
     pub fn composite(&self) -> DynamicImage {
         let visible = shown(&self.layers.iter().collect::<Vec<_>>());
-        match self.base.image() {
-            DynamicImage::ImageRgb8(img) => {
-                DynamicImage::ImageRgb8(composite_buffer(img, 3, 255.0, &visible, None))
-            }
-            DynamicImage::ImageRgba8(img) => {
-                DynamicImage::ImageRgba8(composite_buffer(img, 4, 255.0, &visible, None))
-            }
-            DynamicImage::ImageRgb16(img) => {
-                DynamicImage::ImageRgb16(composite_buffer(img, 3, 65535.0, &visible, None))
-            }
-            DynamicImage::ImageRgba16(img) => {
-                DynamicImage::ImageRgba16(composite_buffer(img, 4, 65535.0, &visible, None))
-            }
-            other => other.clone(),
-        }
+        flatten(&self.base, &visible, None)
     }
 }
 
@@ -250,21 +236,7 @@ impl Partial {
     pub fn finish(&self, layers: &[&Layer]) -> DynamicImage {
         let layers = shown(layers);
         let start = Some((self.acc.as_slice(), self.touched.as_slice()));
-        match self.base.image() {
-            DynamicImage::ImageRgb8(img) => {
-                DynamicImage::ImageRgb8(composite_buffer(img, 3, 255.0, &layers, start))
-            }
-            DynamicImage::ImageRgba8(img) => {
-                DynamicImage::ImageRgba8(composite_buffer(img, 4, 255.0, &layers, start))
-            }
-            DynamicImage::ImageRgb16(img) => {
-                DynamicImage::ImageRgb16(composite_buffer(img, 3, 65535.0, &layers, start))
-            }
-            DynamicImage::ImageRgba16(img) => {
-                DynamicImage::ImageRgba16(composite_buffer(img, 4, 65535.0, &layers, start))
-            }
-            other => other.clone(),
-        }
+        flatten(&self.base, &layers, start)
     }
 }
 
@@ -355,6 +327,26 @@ fn blend_layer_row(
                 blend_pixel(blend, px, c, s[3] as f32 * o);
             }
         }
+    }
+}
+
+/// `layers` over `base` (or over a partial composite `start` of it), at the
+/// photo's bit depth; a photo type the compositor does not handle is kept.
+fn flatten(base: &Photo, layers: &[&Layer], start: Option<(&[f32], &[bool])>) -> DynamicImage {
+    match base.image() {
+        DynamicImage::ImageRgb8(img) => {
+            DynamicImage::ImageRgb8(composite_buffer(img, 3, 255.0, layers, start))
+        }
+        DynamicImage::ImageRgba8(img) => {
+            DynamicImage::ImageRgba8(composite_buffer(img, 4, 255.0, layers, start))
+        }
+        DynamicImage::ImageRgb16(img) => {
+            DynamicImage::ImageRgb16(composite_buffer(img, 3, 65535.0, layers, start))
+        }
+        DynamicImage::ImageRgba16(img) => {
+            DynamicImage::ImageRgba16(composite_buffer(img, 4, 65535.0, layers, start))
+        }
+        other => other.clone(),
     }
 }
 

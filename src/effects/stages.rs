@@ -282,12 +282,15 @@ pub(super) fn moss(
         });
     let p = &preset.moss;
     let climate = (p.by_humidity != 0.0).then(|| products.climate(ctx, &preset.climate));
-    let humid = encouragement(ctx, climate.as_deref(), p.by_humidity, |c| &c.humidity);
+    let make = || {
+        let humid = encouragement(ctx, climate.as_deref(), p.by_humidity, |c| &c.humidity);
+        moss_habitat(ctx, preset, humid)
+    };
     let made;
     let habitat = match products.carry.as_deref_mut() {
-        Some(carry) => carry.habitat(preset, || moss_habitat(ctx, preset, humid)),
+        Some(carry) => carry.habitat(preset, make),
         None => {
-            made = moss_habitat(ctx, preset, humid);
+            made = make();
             &made
         }
     };
@@ -414,12 +417,15 @@ pub(super) fn dust(
     };
     if p.open_wall < 1.0 {
         let climate = (p.by_light != 0.0).then(|| products.climate(ctx, &preset.climate));
-        let light = encouragement(ctx, climate.as_deref(), p.by_light, |c| &c.light);
+        let make = || {
+            let light = encouragement(ctx, climate.as_deref(), p.by_light, |c| &c.light);
+            dust_settle(ctx, p, light)
+        };
         let made;
         let settle = match products.carry.as_deref_mut() {
-            Some(carry) => carry.settle(p, &preset.climate, || dust_settle(ctx, p, light)),
+            Some(carry) => carry.settle(p, &preset.climate, make),
             None => {
-                made = dust_settle(ctx, p, light);
+                made = make();
                 &made
             }
         };
