@@ -43,6 +43,7 @@ pub mod random;
 pub mod recipe;
 pub mod round;
 pub mod say;
+pub mod shrink;
 pub mod stack;
 pub mod timelapse;
 

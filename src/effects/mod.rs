@@ -23,6 +23,7 @@
 //! file (a variant and its arms), and `preset/` (its params struct and
 //! PARAMS rows). README "How to add an effect" walks through it.
 
+pub mod box_mean;
 pub mod carry;
 pub mod climate;
 pub mod dust;

@@ -58,6 +58,7 @@ use rand::Rng as _;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::effects::box_mean::box_mean;
 use crate::effects::percentile::{Rank, percentile};
 use crate::effects::region::Region;
 use crate::effects::roughness;
@@ -387,54 +388,6 @@ pub fn d_max<O: Order>(dirt: &Field<f32, O>, region: &Field<bool, O>, q: f32) ->
     percentile(positive, q, Rank::Below).map_or(1.0, |v| v.max(f32::MIN_POSITIVE))
 }
 
-/// Mean of `values` over the region cells within `radius` (a square
-/// window), per grid cell; 0 outside the region.
-pub(crate) fn box_mean(
-    values: &RowMajor<f32>,
-    region: &RowMajor<bool>,
-    radius: usize,
-) -> RowMajor<f32> {
-    let (w, h) = (values.width(), values.height());
-    let (values, region) = (values.data(), region.data());
-    // Separable running sums of value and of region membership.
-    let blur = |src: &[f32], along_x: bool| -> Vec<f32> {
-        let (len, lines) = if along_x { (w, h) } else { (h, w) };
-        let at = |line: usize, i: usize| if along_x { line * w + i } else { i * w + line };
-        let mut out = vec![0.0; w * h];
-        for line in 0..lines {
-            let mut sum = 0.0f64;
-            for i in 0..radius.min(len) {
-                sum += src[at(line, i)] as f64;
-            }
-            for i in 0..len {
-                if i + radius < len {
-                    sum += src[at(line, i + radius)] as f64;
-                }
-                if i > radius {
-                    sum -= src[at(line, i - radius - 1)] as f64;
-                }
-                out[at(line, i)] = sum as f32;
-            }
-        }
-        out
-    };
-    let masked: Vec<f32> = values
-        .iter()
-        .zip(region)
-        .map(|(v, r)| if *r { *v } else { 0.0 })
-        .collect();
-    let ones: Vec<f32> = region.iter().map(|r| f32::from(u8::from(*r))).collect();
-    let sum = blur(&blur(&masked, true), false);
-    let count = blur(&blur(&ones, true), false);
-    let mean = sum
-        .iter()
-        .zip(&count)
-        .zip(region)
-        .map(|((s, c), r)| if *r && *c > 0.0 { s / c } else { 0.0 })
-        .collect();
-    RowMajor::new(w, h, mean)
-}
-
 /// One spore dot.
 #[derive(Debug, Clone, Copy)]
 struct Dot {
@@ -679,30 +632,6 @@ mod tests {
         // 1/2 (0.5 + 0.5) * 0.4 * 1.0
         assert!((f.get(0, 0) - 0.2).abs() < 1e-6, "{}", f.get(0, 0));
         assert_eq!(f.get(0, h - 1), 0.0, "last row: index clamped, M_y = 0");
-    }
-
-    #[test]
-    fn box_mean_matches_a_plain_window_average() {
-        let (w, h) = (9, 7);
-        let values = RowMajor::from_fn(w, h, |x, y| ((y * w + x) * 37 % 11) as f32);
-        let region = RowMajor::from_fn(w, h, |x, y| (y * w + x) % 5 != 0);
-        let got = box_mean(&values, &region, 2);
-        let (got, values, region) = (got.data(), values.data(), region.data());
-        for y in 0..h {
-            for x in 0..w {
-                let (mut s, mut n) = (0.0, 0.0);
-                for yy in y.saturating_sub(2)..(y + 3).min(h) {
-                    for xx in x.saturating_sub(2)..(x + 3).min(w) {
-                        if region[yy * w + xx] {
-                            s += values[yy * w + xx];
-                            n += 1.0;
-                        }
-                    }
-                }
-                let want = if region[y * w + x] { s / n } else { 0.0 };
-                assert!((got[y * w + x] - want).abs() < 1e-4, "({x}, {y})");
-            }
-        }
     }
 
     #[test]

@@ -121,6 +121,34 @@ impl Scene {
         Ok(self)
     }
 
+    /// The scene at `ow` x `oh` (an animation's frame size): the photo,
+    /// region, normals and shelter area-averaged ([`crate::shrink`]), the
+    /// quad, ground and ledges scaled, the metres per pixel larger by as
+    /// much. Its run at a preset [`Preset::scaled`] the same way is the
+    /// preview of the scene's run.
+    ///
+    /// [`Preset::scaled`]: crate::preset::Preset::scaled
+    pub fn scaled(&self, ow: u32, oh: u32) -> Scene {
+        use crate::shrink::{buffer_to_size, to_size};
+        let (w, h) = self.size();
+        let (sx, sy) = (ow as f32 / w.max(1) as f32, oh as f32 / h.max(1) as f32);
+        let mut photo = Photo::new(to_size(self.photo.image(), ow, oh));
+        photo.icc = self.photo.icc.clone();
+        Scene {
+            photo: Arc::new(photo),
+            region: self
+                .region
+                .as_ref()
+                .map(|r| Arc::new(buffer_to_size(r, ow, oh))),
+            normals: self
+                .normals
+                .as_ref()
+                .map(|n| Arc::new(buffer_to_size(n, ow, oh))),
+            quad: self.quad.map(|q| q.map(|p| [p[0] * sx, p[1] * sy])),
+            site: self.site.scaled((w, h), (ow, oh)),
+        }
+    }
+
     /// Photo width and height.
     pub fn size(&self) -> (u32, u32) {
         (self.photo.width(), self.photo.height())

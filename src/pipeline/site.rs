@@ -78,6 +78,35 @@ impl Site {
         }
     }
 
+    /// The site of the photo scaled from `w` x `h` to `ow` x `oh` (an
+    /// animation's frame size): metres per pixel, ground rows, ledges and
+    /// shelter in the scaled photo's pixels.
+    pub fn scaled(&self, (w, h): (u32, u32), (ow, oh): (u32, u32)) -> Site {
+        let (sx, sy) = (ow as f32 / w.max(1) as f32, oh as f32 / h.max(1) as f32);
+        let ground = match self.ground.len() {
+            0 => Vec::new(),
+            n => (0..ow)
+                .map(|x| self.ground[(((x as f32 + 0.5) / sx) as usize).min(n - 1)] * sy)
+                .collect(),
+        };
+        Site {
+            metres_per_pixel: self.metres_per_pixel / sx,
+            ground,
+            ledges: self
+                .ledges
+                .iter()
+                .map(|l| Ledge {
+                    polyline: l.polyline.iter().map(|p| [p[0] * sx, p[1] * sy]).collect(),
+                    ..l.clone()
+                })
+                .collect(),
+            shelter: self
+                .shelter
+                .as_ref()
+                .map(|s| Arc::new(crate::shrink::buffer_to_size(s, ow, oh))),
+        }
+    }
+
     /// Photo pixels for a length in metres.
     pub fn px(&self, metres: f32) -> f32 {
         metres / self.metres_per_pixel

@@ -54,6 +54,8 @@ pub trait Imperfection {
     fn place(&self) -> Place<'_>;
     /// Turns it on with a coverage and, if given, a placement.
     fn set(&mut self, coverage: f32, placement: Option<Placement>);
+    /// Scales its point and area (photo pixels) with the photo.
+    fn scale_place(&mut self, sx: f32, sy: f32);
 }
 
 macro_rules! imperfection {
@@ -72,6 +74,11 @@ macro_rules! imperfection {
                 self.coverage = coverage;
                 if let Some(p) = placement {
                     self.placement = p;
+                }
+            }
+            fn scale_place(&mut self, sx: f32, sy: f32) {
+                for p in std::iter::once(&mut self.around).chain(&mut self.area) {
+                    *p = [p[0] * sx, p[1] * sy];
                 }
             }
         }

@@ -13,6 +13,7 @@ mod gammaton;
 mod imperfections;
 mod params;
 mod params_dust;
+mod scaled;
 mod sections;
 mod smudges;
 mod table;

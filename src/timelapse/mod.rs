@@ -2,9 +2,11 @@
 //! age, as an animated GIF, an animated PNG (APNG) or a folder of PNG
 //! frames. The frames come from one run ([`crate::pipeline::run_frames`]):
 //! the rain is simulated once; each frame equals `grime run --years K`.
+//! An animation of a photo larger than its frame size is drawn at that
+//! size instead: each frame is then the run at its age of the photo
+//! scaled to the frame size, a preview of the full-size run.
 
 pub mod caption;
-mod shrink;
 
 use std::path::{Path, PathBuf};
 
@@ -187,6 +189,10 @@ pub fn run(
     if kind == Kind::Folder {
         std::fs::create_dir_all(&t.path).map_err(|e| Error::io(&t.path, e))?;
     }
+    let (w, h) = scene.size();
+    if kind != Kind::Folder && t.max_side > 0 && w.max(h) > t.max_side {
+        return previews(scene, preset, (&presets, &years), t, recipe, progress);
+    }
     let mut frames = Vec::new();
     let icc = scene.photo.icc.as_deref();
     let out = pipeline::run_frames(scene, preset, &presets, progress, &mut |i, frame| {
@@ -196,10 +202,7 @@ pub fn run(
             // As `export::save_with` writes the stack to a PNG.
             return io::save_image_with(&img, icc, &t.frame_path(years[i]), Some(&text));
         }
-        let mut rgba = match kind {
-            Kind::Folder => img.to_rgba8(),
-            _ => shrink::shrink(&img, t.max_side),
-        };
+        let mut rgba = img.to_rgba8();
         if t.caption {
             caption::draw(&mut rgba, years[i]);
         }
@@ -214,10 +217,55 @@ pub fn run(
             }
         }
     })?;
+    write_animation(t, kind, &frames, recipe)?;
+    Ok(out)
+}
+
+/// An animation of a photo larger than its frames: the run at full size,
+/// and the frames drawn at their size, each the run of the scene and
+/// presets scaled to it ([`Scene::scaled`], [`Preset::scaled`]) at the
+/// frame's age. A frame is so a preview of the full-size run at its age
+/// (tested within a tolerance), and costs what a frame-sized run does.
+fn previews(
+    scene: &Scene,
+    preset: &Preset,
+    (presets, years): (&[Preset], &[u32]),
+    t: &Timelapse,
+    recipe: &Recipe,
+    progress: &Progress,
+) -> Result<Outcome> {
+    let out = pipeline::run(scene, preset, &progress.span(0.0, 0.5))?;
+    let (w, h) = scene.size();
+    let (fw, fh) = crate::shrink::fit(w, h, t.max_side);
+    let (sx, sy) = (fw as f32 / w as f32, fh as f32 / h as f32);
+    let small = scene.scaled(fw, fh);
+    let small_presets: Vec<Preset> = presets.iter().map(|p| p.scaled(sx, sy)).collect();
+    let mut frames = Vec::with_capacity(presets.len());
+    pipeline::run_frames(
+        &small,
+        &preset.scaled(sx, sy),
+        &small_presets,
+        &progress.span(0.5, 1.0),
+        &mut |i, frame| {
+            let mut rgba = frame.composite().to_rgba8();
+            if t.caption {
+                caption::draw(&mut rgba, years[i]);
+            }
+            frames.push(rgba);
+            Ok(())
+        },
+    )?;
+    write_animation(t, t.kind()?, &frames, recipe)?;
+    Ok(out)
+}
+
+/// Writes `frames` as the GIF or APNG `t` names (nothing for a folder,
+/// whose frames are written as they come).
+fn write_animation(t: &Timelapse, kind: Kind, frames: &[RgbaImage], recipe: &Recipe) -> Result<()> {
     match kind {
-        Kind::Folder => Ok(out),
-        Kind::Gif => write_gif(&t.path, &frames, t.frame_ms).map(|_| out),
-        Kind::Apng => write_apng(&t.path, &frames, t.frame_ms, &recipe.to_text()).map(|_| out),
+        Kind::Folder => Ok(()),
+        Kind::Gif => write_gif(&t.path, frames, t.frame_ms),
+        Kind::Apng => write_apng(&t.path, frames, t.frame_ms, &recipe.to_text()),
     }
 }
 
@@ -237,11 +285,13 @@ fn encode_error(path: &Path, e: impl std::fmt::Display) -> Error {
     }
 }
 
-/// An animated GIF, looping. The frames' palettes (NeuQuant, speed 10) are
-/// found in parallel; the file is what `image`'s GIF encoder writes.
+/// An animated GIF, looping, with one palette for all frames (NeuQuant,
+/// trained on the first and last frame): a colour keeps its index from
+/// frame to frame, so the wall does not flicker as it ages. Each frame's
+/// pixels are mapped to it in parallel.
 fn write_gif(path: &Path, frames: &[RgbaImage], frame_ms: u16) -> Result<()> {
     use rayon::prelude::*;
-    let Some(first) = frames.first() else {
+    let (Some(first), Some(last)) = (frames.first(), frames.last()) else {
         return Err(encode_error(path, "no frames"));
     };
     let (Ok(w), Ok(h)) = (u16::try_from(first.width()), u16::try_from(first.height())) else {
@@ -250,22 +300,31 @@ fn write_gif(path: &Path, frames: &[RgbaImage], frame_ms: u16) -> Result<()> {
             "a GIF frame is at most 65535 pixels wide",
         ));
     };
-    let quantised: Vec<gif::Frame> = frames
+    let mut sample = first.as_raw().clone();
+    sample.extend_from_slice(last.as_raw());
+    let quant = color_quant::NeuQuant::new(10, 256, &sample);
+    let indexed: Vec<gif::Frame> = frames
         .par_iter()
         .enumerate()
-        .map(|(i, f)| {
-            let mut rgba = f.as_raw().clone();
-            let mut frame = gif::Frame::from_rgba_speed(w, h, &mut rgba, 10);
-            frame.delay = delay(i, frames.len(), frame_ms) / 10;
-            frame.dispose = gif::DisposalMethod::Background;
-            frame
+        .map(|(i, f)| gif::Frame {
+            width: w,
+            height: h,
+            buffer: f
+                .as_raw()
+                .chunks_exact(4)
+                .map(|p| quant.index_of(p) as u8)
+                .collect::<Vec<u8>>()
+                .into(),
+            delay: delay(i, frames.len(), frame_ms) / 10,
+            ..gif::Frame::default()
         })
         .collect();
     io::write_atomic(path, |out| {
-        let mut gif = gif::Encoder::new(out, w, h, &[]).map_err(|e| encode_error(path, e))?;
+        let mut gif = gif::Encoder::new(out, w, h, &quant.color_map_rgb())
+            .map_err(|e| encode_error(path, e))?;
         gif.set_repeat(gif::Repeat::Infinite)
             .map_err(|e| encode_error(path, e))?;
-        for frame in &quantised {
+        for frame in &indexed {
             gif.write_frame(frame).map_err(|e| encode_error(path, e))?;
         }
         Ok(())
@@ -279,6 +338,8 @@ fn write_apng(path: &Path, frames: &[RgbaImage], frame_ms: u16, recipe: &str) ->
     };
     io::write_atomic(path, |out| {
         let mut enc = png::Encoder::new(out, first.width(), first.height());
+        // Fast deflate: default compression took 0.15 s a 1 MP frame.
+        enc.set_compression(png::Compression::Fast);
         enc.set_color(png::ColorType::Rgba);
         enc.set_depth(png::BitDepth::Eight);
         enc.set_animated(frames.len() as u32, 0)

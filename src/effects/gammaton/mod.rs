@@ -575,7 +575,7 @@ pub(super) fn stage(
         let map = match s.filter {
             0 => map,
             r => {
-                filtered = crate::effects::moss::box_mean(map, ctx.region, r as usize);
+                filtered = crate::effects::box_mean::box_mean(map, ctx.region, r as usize);
                 &filtered
             }
         };

@@ -1,9 +1,9 @@
-//! An animation's frames at its frame size: each output pixel is the mean
-//! of the photo pixels it covers (area averaging, parts of pixels counted
-//! by their share), output rows in parallel. Every frame and the run go
-//! through the same arithmetic, so a frame stays the run at its age, shrunk.
+//! Images at an animation's frame size: each output pixel is the mean of
+//! the pixels it covers (area averaging, parts of pixels counted by their
+//! share), output rows in parallel. The photo, its masks and maps are
+//! shrunk so for a preview scene ([`crate::pipeline::Scene::scaled`]).
 
-use image::{DynamicImage, RgbaImage};
+use image::{DynamicImage, ImageBuffer, Pixel, RgbaImage};
 use rayon::prelude::*;
 
 /// `img` as RGBA with its longest side at most `max_side` (0 = as is).
@@ -13,16 +13,45 @@ pub fn shrink(img: &DynamicImage, max_side: u32) -> RgbaImage {
         return img.to_rgba8();
     }
     let (ow, oh) = fit(w, h, max_side);
-    match img {
-        DynamicImage::ImageRgb8(rgb) => area_mean(rgb.as_raw(), 3, (w, h), (ow, oh)),
-        DynamicImage::ImageRgba8(rgba) => area_mean(rgba.as_raw(), 4, (w, h), (ow, oh)),
-        other => area_mean(other.to_rgba8().as_raw(), 4, (w, h), (ow, oh)),
+    match to_size(img, ow, oh) {
+        DynamicImage::ImageRgba8(rgba) => rgba,
+        other => other.to_rgba8(),
     }
+}
+
+/// `img` at `ow` x `oh`, as 8-bit RGB or, with an alpha channel, RGBA.
+pub fn to_size(img: &DynamicImage, ow: u32, oh: u32) -> DynamicImage {
+    match img {
+        DynamicImage::ImageRgb8(rgb) => DynamicImage::ImageRgb8(buffer_to_size(rgb, ow, oh)),
+        DynamicImage::ImageRgba8(rgba) => DynamicImage::ImageRgba8(buffer_to_size(rgba, ow, oh)),
+        other if other.color().has_alpha() => {
+            DynamicImage::ImageRgba8(buffer_to_size(&other.to_rgba8(), ow, oh))
+        }
+        other => DynamicImage::ImageRgb8(buffer_to_size(&other.to_rgb8(), ow, oh)),
+    }
+}
+
+/// An 8-bit image buffer (grey, RGB, RGBA) at `ow` x `oh`.
+pub fn buffer_to_size<P: Pixel<Subpixel = u8>>(
+    img: &ImageBuffer<P, Vec<u8>>,
+    ow: u32,
+    oh: u32,
+) -> ImageBuffer<P, Vec<u8>> {
+    let mut out = ImageBuffer::new(ow, oh);
+    let channels = P::CHANNEL_COUNT as usize;
+    area_mean(
+        img.as_raw(),
+        channels,
+        img.dimensions(),
+        &mut out,
+        ow as usize,
+    );
+    out
 }
 
 /// The size of a `w` x `h` image with its longest side `max_side`, the
 /// other rounded (at least 1).
-fn fit(w: u32, h: u32, max_side: u32) -> (u32, u32) {
+pub fn fit(w: u32, h: u32, max_side: u32) -> (u32, u32) {
     let scale =
         |a: u32, b: u32| ((a as u64 * max_side as u64 + b as u64 / 2) / b as u64).max(1) as u32;
     match w >= h {
@@ -48,12 +77,13 @@ fn weights(len: u32, out: u32) -> Vec<(usize, Vec<f32>)> {
         .collect()
 }
 
-/// Area-averages `src` (`channels` per pixel, `w` x `h`) to `ow` x `oh` RGBA.
-fn area_mean(src: &[u8], channels: usize, (w, h): (u32, u32), (ow, oh): (u32, u32)) -> RgbaImage {
-    let (cols, rows) = (weights(w, ow), weights(h, oh));
+/// Area-averages `src` (`channels` per pixel, `w` x `h`) into `out`, rows
+/// of `ow` pixels.
+fn area_mean(src: &[u8], channels: usize, (w, h): (u32, u32), out: &mut [u8], ow: usize) {
+    let oh = out.len() / (ow * channels).max(1);
+    let (cols, rows) = (weights(w, ow as u32), weights(h, oh as u32));
     let row_len = w as usize * channels;
-    let mut out = RgbaImage::new(ow, oh);
-    out.par_chunks_exact_mut(ow as usize * 4)
+    out.par_chunks_exact_mut(ow * channels)
         .zip(rows.par_iter())
         .for_each(|(line, (first, wy))| {
             let mut sum = vec![0.0f32; row_len];
@@ -63,7 +93,7 @@ fn area_mean(src: &[u8], channels: usize, (w, h): (u32, u32), (ow, oh): (u32, u3
                     *s += *v as f32 * wy;
                 }
             }
-            for (px, (x0, wx)) in line.chunks_exact_mut(4).zip(&cols) {
+            for (px, (x0, wx)) in line.chunks_exact_mut(channels).zip(&cols) {
                 let mut acc = [0.0f32; 4];
                 for (k, wx) in wx.iter().enumerate() {
                     let at = (x0 + k) * channels;
@@ -71,15 +101,11 @@ fn area_mean(src: &[u8], channels: usize, (w, h): (u32, u32), (ow, oh): (u32, u3
                         *a += sum[at + c] * wx;
                     }
                 }
-                if channels == 3 {
-                    acc[3] = 255.0;
-                }
                 for (o, a) in px.iter_mut().zip(acc) {
                     *o = (a + 0.5).clamp(0.0, 255.0) as u8;
                 }
             }
         });
-    out
 }
 
 #[cfg(test)]
