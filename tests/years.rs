@@ -243,7 +243,11 @@ fn an_animation_of_a_larger_photo_previews_each_run_at_its_age() {
     let dir = tempfile::tempdir().unwrap();
     let d = |n: &str| dir.path().join(n);
     let p = d("p.png");
-    grime::demo::facade(480, 360).photo.image().save(&p).unwrap();
+    grime::demo::facade(480, 360)
+        .photo
+        .image()
+        .save(&p)
+        .unwrap();
     // The grid at the frame size, as the defaults have it (both 1024). With
     // a region, the full-size run's stain fades over a grid cell at its
     // edges (bilinear upsampling) where a frame's does not: the facade's
@@ -298,7 +302,10 @@ fn an_animation_of_a_larger_photo_previews_each_run_at_its_age() {
         );
         if k == 12 {
             // The output itself is the full-size run.
-            assert_eq!(std::fs::read(&main).unwrap(), std::fs::read(&single).unwrap());
+            assert_eq!(
+                std::fs::read(&main).unwrap(),
+                std::fs::read(&single).unwrap()
+            );
         }
     }
 }

@@ -78,7 +78,9 @@ pub struct RunArgs {
     #[arg(long, requires = "timelapse")]
     caption: bool,
     /// Longest side of a .gif or .png time-lapse's frames, pixels (0 = the
-    /// photo's; a frames folder is always full size).
+    /// photo's). A larger photo's frames are drawn at this size, as
+    /// previews of the full-size run; a frames folder is always full size
+    /// and exact.
     #[arg(
         long,
         value_name = "PX",

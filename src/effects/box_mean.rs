@@ -130,7 +130,7 @@ mod tests {
 
     fn window_average(w: usize, h: usize, r: usize) {
         let values = RowMajor::from_fn(w, h, |x, y| ((y * w + x) * 37 % 11) as f32);
-        let region = RowMajor::from_fn(w, h, |x, y| (y * w + x) % 5 != 0);
+        let region = RowMajor::from_fn(w, h, |x, y| !(y * w + x).is_multiple_of(5));
         let got = box_mean(&values, &region, r);
         let (got, values, region) = (got.data(), values.data(), region.data());
         for y in 0..h {

@@ -128,7 +128,8 @@ impl Proxy {
     }
 
     /// The preview job for a document's state: the proxy's photo and mask
-    /// (shared, not copied) with the quad, and the preset's source lines, in
+    /// (shared, not copied) with the quad, and the preset
+    /// ([`Preset::scaled`]: its source lines, sources and placements), in
     /// proxy pixels.
     ///
     /// # Errors
@@ -139,12 +140,7 @@ impl Proxy {
         quad: Option<&Quad>,
         layers: &BTreeMap<String, LayerSetting>,
     ) -> Result<PreviewJob> {
-        let mut preset = preset.clone();
-        for line in &mut preset.rain.source_lines {
-            for p in line.iter_mut() {
-                *p = self.to_proxy(*p);
-            }
-        }
+        let preset = preset.scaled(self.sx, self.sy);
         let mut scene = Scene::shared(Arc::clone(&self.photo), Some(Arc::clone(&self.mask)))?
             .with_quad(quad.map(|q| q.map(|p| self.to_proxy(p))))?;
         if let Some(site) = &self.site {

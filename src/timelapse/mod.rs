@@ -23,7 +23,7 @@ use crate::recipe::{Recipe, embed};
 /// What a time-lapse is written as, from its path.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
-    /// `.gif`: 256 colours per frame.
+    /// `.gif`: 256 colours, one palette for all frames.
     Gif,
     /// `.png` or `.apng`: an animated PNG, exact colours.
     Apng,
