@@ -248,11 +248,10 @@ fn an_animation_of_a_larger_photo_previews_each_run_at_its_age() {
         .image()
         .save(&p)
         .unwrap();
-    // The grid at the frame size, as the defaults have it (both 1024). With
-    // a region, the full-size run's stain fades over a grid cell at its
-    // edges (bilinear upsampling) where a frame's does not: the facade's
-    // windows then make the frames age 20-35 % more. Without, within 2 %.
-    let common = ["--region", "full", "--set", "sim.max_side=160"];
+    // The grid at the frame size, as the defaults have it (both 1024), so
+    // the frames show the full-size run's rain. The region and ledges are
+    // the scene analysis's, scaled.
+    let common = ["--set", "sim.max_side=160"];
     let main = d("a.png");
     let apng = d("t.png");
     let mut args = vec!["run", s(&p), "-o", s(&main), "-q", "--years", "12"];
@@ -290,14 +289,14 @@ fn an_animation_of_a_larger_photo_previews_each_run_at_its_age() {
             mean_difference(&run, &photo),
             mean_difference(frame, &photo),
         );
-        // Measured: 0.17-0.2 of the ageing off (streaks a pixel apart),
-        // the ageing within 2 %.
+        // Measured: 0.13-0.15 of the ageing off (moss and dust drawn at
+        // the frame size, streaks sampled there), the ageing within 2 %.
         assert!(
-            off < 0.3 * aged,
+            off < 0.25 * aged,
             "year {k}: the preview is {off:.2} levels off a run that ages {aged:.2}"
         );
         assert!(
-            (seen - aged).abs() < 0.1 * aged,
+            (seen - aged).abs() < 0.05 * aged,
             "year {k}: ages {seen:.2} against {aged:.2}"
         );
         if k == 12 {

@@ -52,21 +52,35 @@ pub(super) fn rain(
 ) -> Result<Produced> {
     let grid = ctx.grid;
     let r = &preset.rain;
-    let input = RainInput {
-        luma: ctx.luma,
-        region: ctx.region,
-        source_lines: grid_lines(ctx, r),
-        catch: r.source_lines.iter().map(|l| catch(ctx, l)).collect(),
-        release: release(ctx, r),
-        washed: preset.stain.washed_opacity > 0.0,
+    let given = products.given_rain.take().filter(|(out, kept)| {
+        (out.water.width(), out.water.height()) == (grid.width, grid.height)
+            && out.layers.len() == r.layers as usize
+            && products
+                .keep_rain_at
+                .iter()
+                .all(|n| kept.iter().any(|k| k.rainfalls == *n))
+    });
+    let (out, kept) = match given {
+        Some(given) => given,
+        None => {
+            let input = RainInput {
+                luma: ctx.luma,
+                region: ctx.region,
+                source_lines: grid_lines(ctx, r),
+                catch: r.source_lines.iter().map(|l| catch(ctx, l)).collect(),
+                release: release(ctx, r),
+                washed: preset.stain.washed_opacity > 0.0,
+            };
+            let (out, kept) = rain::simulate_keeping(
+                &input,
+                r,
+                preset.seed,
+                &progress.span(0.0, 0.87),
+                &products.keep_rain_at,
+            )?;
+            (Arc::new(out), kept.into_iter().map(Arc::new).collect())
+        }
     };
-    let (out, kept) = rain::simulate_keeping(
-        &input,
-        r,
-        preset.seed,
-        &progress.span(0.0, 0.87),
-        &products.keep_rain_at,
-    )?;
     let mut stainer = Stainer::new(ctx, preset);
 
     let d_max = rain::stain::d_max(&out.layers, preset.stain.percentile);
@@ -93,8 +107,8 @@ pub(super) fn rain(
         layers.push(stainer.washed(washed));
         layer_stats.push(None);
     }
-    products.rain_kept = kept.into_iter().map(Arc::new).collect();
-    products.rain = Some(Arc::new(out));
+    products.rain_kept = kept;
+    products.rain = Some(out);
     Ok(Produced {
         layers,
         layer_stats,

@@ -18,6 +18,7 @@ use image::DynamicImage;
 use super::{Cache, Outcome, Prepared, plane_of, plane_preset, run_cached};
 use crate::clock;
 use crate::effects::carry::Carry;
+use crate::effects::rain::{Kept, RainOutput};
 use crate::effects::region::Region;
 use crate::effects::{Effect, Products, stale, washed_layer};
 use crate::error::{Error, Result};
@@ -67,6 +68,55 @@ pub fn run_frames(
     progress: &Progress,
     each: &mut dyn FnMut(usize, Frame) -> Result<()>,
 ) -> Result<Outcome> {
+    run_frames_with(scene, last, frames, None, progress, each)
+}
+
+/// A run's rain and the walls it kept after each frame's rainfalls
+/// ([`run_sharing_rain`]), for the frames of the scene scaled.
+#[derive(Debug, Clone)]
+pub struct SharedRain {
+    out: Arc<RainOutput>,
+    kept: Vec<Arc<Kept>>,
+}
+
+/// [`super::run`] at `last`, keeping its rain after each of `frames`'
+/// rainfalls for [`run_frames_with`].
+///
+/// # Errors
+/// As [`super::run`].
+pub fn run_sharing_rain(
+    scene: &Scene,
+    last: &Preset,
+    frames: &[Preset],
+    progress: &Progress,
+) -> Result<(Outcome, SharedRain)> {
+    let mut cache = Cache {
+        scene: Some(scene.clone()),
+        ..Cache::none()
+    };
+    cache.products.keep_rain_at = frames.iter().map(|f| f.rain.layers).collect();
+    let out = run_cached(scene, last, progress, &mut cache)?;
+    let rain = SharedRain {
+        out: Arc::clone(&out.rain),
+        kept: std::mem::take(&mut cache.products.rain_kept),
+    };
+    Ok((out, rain))
+}
+
+/// [`run_frames`], taking `rain` (another scene's, on a grid of the same
+/// size: the full-size photo's for its frames drawn smaller) instead of
+/// simulating it when it fits ([`Products::given_rain`]).
+///
+/// # Errors
+/// As [`run_frames`].
+pub fn run_frames_with(
+    scene: &Scene,
+    last: &Preset,
+    frames: &[Preset],
+    rain: Option<SharedRain>,
+    progress: &Progress,
+    each: &mut dyn FnMut(usize, Frame) -> Result<()>,
+) -> Result<Outcome> {
     for frame in frames {
         check_frame(frame, last)?;
     }
@@ -75,6 +125,7 @@ pub fn run_frames(
         ..Cache::none()
     };
     cache.products.keep_rain_at = frames.iter().map(|f| f.rain.layers).collect();
+    cache.products.given_rain = rain.map(|r| (r.out, r.kept));
     let share = 1.0 / (frames.len() + 1) as f32;
     let full = run_cached(scene, last, &progress.span(0.0, share), &mut cache)?;
     let kept = std::mem::take(&mut cache.products.rain_kept);

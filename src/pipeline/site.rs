@@ -196,5 +196,28 @@ mod tests {
             assert_eq!(l.kind, m.kind);
             assert!((2.0 * l.polyline[0][1] - m.polyline[0][1]).abs() < 1e-3);
         }
+        // The full-size site scaled (an animation's frames) agrees.
+        let scaled = site.scaled((480, 360), (240, 180));
+        assert_eq!(scaled.metres_per_pixel, half.metres_per_pixel);
+        assert_eq!(scaled.ledges, half.ledges);
+        assert_eq!(scaled.ground.len(), 240);
+        // Each samples its column at another point: they may part at the
+        // ends of a stretch of ground.
+        let mut parted = 0;
+        for x in 0..240 {
+            match (scaled.ground_at(x), half.ground_at(x)) {
+                (Some(a), Some(b)) => assert!((a - b).abs() <= 1.0, "{x}: {a} {b}"),
+                (a, b) => parted += usize::from(a.is_some() != b.is_some()),
+            }
+        }
+        assert!(parted <= 4, "{parted} columns");
+        let (s, h) = (scaled.shelter.unwrap(), half.shelter.unwrap());
+        assert_eq!(s.dimensions(), h.dimensions());
+        let off: u64 = s
+            .pixels()
+            .zip(h.pixels())
+            .map(|(a, b)| a[0].abs_diff(b[0]) as u64)
+            .sum();
+        assert!(off as f64 / (240.0 * 180.0) < 8.0, "shelter {off}");
     }
 }

@@ -224,8 +224,10 @@ pub fn run(
 /// An animation of a photo larger than its frames: the run at full size,
 /// and the frames drawn at their size, each the run of the scene and
 /// presets scaled to it ([`Scene::scaled`], [`Preset::scaled`]) at the
-/// frame's age. A frame is so a preview of the full-size run at its age
-/// (tested within a tolerance), and costs what a frame-sized run does.
+/// frame's age, with the full-size run's rain when their grids have the
+/// same size (as with the defaults: both 1024 px). A frame is so a preview
+/// of the full-size run at its age (tested within a tolerance), and costs
+/// its moss, dust and composite at the frame size.
 fn previews(
     scene: &Scene,
     preset: &Preset,
@@ -234,17 +236,18 @@ fn previews(
     recipe: &Recipe,
     progress: &Progress,
 ) -> Result<Outcome> {
-    let out = pipeline::run(scene, preset, &progress.span(0.0, 0.5))?;
+    let (out, rain) = pipeline::run_sharing_rain(scene, preset, presets, &progress.span(0.0, 0.5))?;
     let (w, h) = scene.size();
     let (fw, fh) = crate::shrink::fit(w, h, t.max_side);
     let (sx, sy) = (fw as f32 / w as f32, fh as f32 / h as f32);
     let small = scene.scaled(fw, fh);
     let small_presets: Vec<Preset> = presets.iter().map(|p| p.scaled(sx, sy)).collect();
     let mut frames = Vec::with_capacity(presets.len());
-    pipeline::run_frames(
+    pipeline::run_frames_with(
         &small,
         &preset.scaled(sx, sy),
         &small_presets,
+        Some(rain),
         &progress.span(0.5, 1.0),
         &mut |i, frame| {
             let mut rgba = frame.composite().to_rgba8();
