@@ -52,16 +52,15 @@ pub(super) fn rain(
 ) -> Result<Produced> {
     let grid = ctx.grid;
     let r = &preset.rain;
-    let given = products.given_rain.take().filter(|(out, kept)| {
-        (out.water.width(), out.water.height()) == (grid.width, grid.height)
-            && out.layers.len() == r.layers as usize
+    let given = products.given_rain.take().filter(|g| {
+        g.out.layers.len() == r.layers as usize
             && products
                 .keep_rain_at
                 .iter()
-                .all(|n| kept.iter().any(|k| k.rainfalls == *n))
+                .all(|n| g.kept.iter().any(|k| k.rainfalls == *n))
     });
     let (out, kept) = match given {
-        Some(given) => given,
+        Some(given) => given.on(grid, ctx.size()),
         None => {
             let input = RainInput {
                 luma: ctx.luma,

@@ -18,7 +18,7 @@ use image::DynamicImage;
 use super::{Cache, Outcome, Prepared, plane_of, plane_preset, run_cached};
 use crate::clock;
 use crate::effects::carry::Carry;
-use crate::effects::rain::{Kept, RainOutput};
+use crate::effects::rain::regrid::GivenRain;
 use crate::effects::region::Region;
 use crate::effects::{Effect, Products, stale, washed_layer};
 use crate::error::{Error, Result};
@@ -71,16 +71,9 @@ pub fn run_frames(
     run_frames_with(scene, last, frames, None, progress, each)
 }
 
-/// A run's rain and the walls it kept after each frame's rainfalls
-/// ([`run_sharing_rain`]), for the frames of the scene scaled.
-#[derive(Debug, Clone)]
-pub struct SharedRain {
-    out: Arc<RainOutput>,
-    kept: Vec<Arc<Kept>>,
-}
-
-/// [`super::run`] at `last`, keeping its rain after each of `frames`'
-/// rainfalls for [`run_frames_with`].
+/// [`super::run`] at `last`, and its rain with the walls it kept after each
+/// of `frames`' rainfalls, for [`run_frames_with`] on the scene scaled;
+/// no rain with a wall plane (its grid is on the plane, not the photo).
 ///
 /// # Errors
 /// As [`super::run`].
@@ -89,23 +82,25 @@ pub fn run_sharing_rain(
     last: &Preset,
     frames: &[Preset],
     progress: &Progress,
-) -> Result<(Outcome, SharedRain)> {
+) -> Result<(Outcome, Option<GivenRain>)> {
     let mut cache = Cache {
         scene: Some(scene.clone()),
         ..Cache::none()
     };
     cache.products.keep_rain_at = frames.iter().map(|f| f.rain.layers).collect();
     let out = run_cached(scene, last, progress, &mut cache)?;
-    let rain = SharedRain {
+    let rain = scene.quad.is_none().then(|| GivenRain {
         out: Arc::clone(&out.rain),
         kept: std::mem::take(&mut cache.products.rain_kept),
-    };
+        grid: out.grid,
+        photo: scene.size(),
+    });
     Ok((out, rain))
 }
 
-/// [`run_frames`], taking `rain` (another scene's, on a grid of the same
-/// size: the full-size photo's for its frames drawn smaller) instead of
-/// simulating it when it fits ([`Products::given_rain`]).
+/// [`run_frames`], taking `rain` (the full-size photo's, for its frames
+/// drawn smaller) instead of simulating it when it fits
+/// ([`Products::given_rain`]).
 ///
 /// # Errors
 /// As [`run_frames`].
@@ -113,7 +108,7 @@ pub fn run_frames_with(
     scene: &Scene,
     last: &Preset,
     frames: &[Preset],
-    rain: Option<SharedRain>,
+    rain: Option<GivenRain>,
     progress: &Progress,
     each: &mut dyn FnMut(usize, Frame) -> Result<()>,
 ) -> Result<Outcome> {
@@ -125,7 +120,7 @@ pub fn run_frames_with(
         ..Cache::none()
     };
     cache.products.keep_rain_at = frames.iter().map(|f| f.rain.layers).collect();
-    cache.products.given_rain = rain.map(|r| (r.out, r.kept));
+    cache.products.given_rain = rain;
     let share = 1.0 / (frames.len() + 1) as f32;
     let full = run_cached(scene, last, &progress.span(0.0, share), &mut cache)?;
     let kept = std::mem::take(&mut cache.products.rain_kept);

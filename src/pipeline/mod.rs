@@ -27,7 +27,7 @@ use crate::preset::Preset;
 use crate::progress::Progress;
 use crate::stack::Stack;
 
-pub use frames::{Frame, SharedRain, run_frames, run_frames_with, run_sharing_rain};
+pub use frames::{Frame, run_frames, run_frames_with, run_sharing_rain};
 pub use report::{GridReport, LayerReport, Report, Size, Timing};
 pub use scene::Scene;
 pub use site::{ASSUMED_WALL_WIDTH_M, Site};

@@ -224,8 +224,7 @@ pub fn run(
 /// An animation of a photo larger than its frames: the run at full size,
 /// and the frames drawn at their size, each the run of the scene and
 /// presets scaled to it ([`Scene::scaled`], [`Preset::scaled`]) at the
-/// frame's age, with the full-size run's rain when their grids have the
-/// same size (as with the defaults: both 1024 px). A frame is so a preview
+/// frame's age, with the full-size run's rain read on their grid. A frame is so a preview
 /// of the full-size run at its age (tested within a tolerance), and costs
 /// its moss, dust and composite at the frame size.
 fn previews(
@@ -247,7 +246,7 @@ fn previews(
         &small,
         &preset.scaled(sx, sy),
         &small_presets,
-        Some(rain),
+        rain,
         &progress.span(0.5, 1.0),
         &mut |i, frame| {
             let mut rgba = frame.composite().to_rgba8();
