@@ -224,9 +224,9 @@ pub fn run(
 /// An animation of a photo larger than its frames: the run at full size,
 /// and the frames drawn at their size, each the run of the scene and
 /// presets scaled to it ([`Scene::scaled`], [`Preset::scaled`]) at the
-/// frame's age, with the full-size run's rain read on their grid. A frame is so a preview
-/// of the full-size run at its age (tested within a tolerance), and costs
-/// its moss, dust and composite at the frame size.
+/// frame's age, with the full-size run's rain read on their grid. A frame
+/// is so a preview of the full-size run at its age (tested within a
+/// tolerance), and costs its moss, dust and composite at the frame size.
 fn previews(
     scene: &Scene,
     preset: &Preset,
