@@ -54,10 +54,22 @@ impl Regrid {
         Regrid { cols, rows }
     }
 
+    /// `f` read on the other grid, its storage lines in parallel.
     fn field<O: Order>(&self, f: &Field<f32, O>) -> Field<f32, O> {
-        Field::from_fn(self.cols.len(), self.rows.len(), |x, y| {
-            f.get(self.cols[x], self.rows[y])
-        })
+        let (w, h) = (self.cols.len(), self.rows.len());
+        let (fw, fh, src) = (f.width(), f.height(), f.data());
+        // Along a line, x runs in row-major storage and y in column-major.
+        let x_runs = O::index(w, h, 1, 0) == 1;
+        let mut data = vec![0.0; w * h];
+        data.par_chunks_mut(O::line(w, h).max(1))
+            .enumerate()
+            .for_each(|(line, out)| {
+                for (k, o) in out.iter_mut().enumerate() {
+                    let (x, y) = if x_runs { (k, line) } else { (line, k) };
+                    *o = src[O::index(fw, fh, self.cols[x], self.rows[y])];
+                }
+            });
+        Field::new(w, h, data)
     }
 }
 
@@ -114,8 +126,12 @@ mod tests {
         let f = RowMajor::from_fn(100, 50, |x, y| (y * 100 + x) as f32);
         let g = map.field(&f);
         assert_eq!((g.width(), g.height()), (200, 100));
+        let c = map.field(&crate::field::ColumnMajor::from_fn(100, 50, |x, y| {
+            f.get(x, y)
+        }));
         for (x, y) in [(0, 0), (7, 3), (199, 99), (120, 41)] {
             assert_eq!(g.get(x, y), f.get(x / 2, y / 2), "({x}, {y})");
+            assert_eq!(c.get(x, y), g.get(x, y), "column-major ({x}, {y})");
         }
     }
 }
