@@ -116,6 +116,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
         }
     });
     ground(f, &steps, &mut class);
+    super::plane::settle(f, &mut class);
     glass(f, &mut class);
     let other = class.iter().filter(|&&c| c != Class::Wall).count();
     if (other as f32) < CLOSE_UP * n as f32 {
@@ -211,7 +212,7 @@ fn across_lines(f: &Features, core: &[bool], cand: &[bool]) -> Option<Vec<usize>
 
 /// Pixels of `cand` 4-connected to the seeds (indices into the row-major
 /// grid) through steps `step_ok(from, to)` allows.
-fn flood(
+pub(super) fn flood(
     cand: &[bool],
     w: usize,
     h: usize,
