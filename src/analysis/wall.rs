@@ -116,8 +116,8 @@ pub fn classify(f: &Features) -> Vec<Class> {
         }
     });
     ground(f, &steps, &mut class);
-    super::plane::settle(f, &mut class);
     glass(f, &mut class);
+    super::plane::settle(f, &mut class);
     let other = class.iter().filter(|&&c| c != Class::Wall).count();
     if (other as f32) < CLOSE_UP * n as f32 {
         class.iter_mut().for_each(|c| *c = Class::Wall);
