@@ -220,7 +220,11 @@ pub fn kerbside(kerb: Kerb, w: u32, h: u32) -> Scene {
             return grey(if x % 8 == 0 { 90.0 } else { 102.0 });
         }
         // Plaster, with a pilaster every sixth of the width.
-        let l = if (u * 6.0).fract() < 0.1 { 185.0 } else { 205.0 };
+        let l = if (u * 6.0).fract() < 0.1 {
+            185.0
+        } else {
+            205.0
+        };
         Rgb([l + g, l * 0.93 + g, l * 0.82 + g].map(|c| c.clamp(0.0, 255.0) as u8))
     });
     Scene {
