@@ -53,9 +53,9 @@ pub fn settle(f: &Features, class: &mut [Class]) {
         return;
     }
     let (w, h) = (f.w, f.h);
-    let side = sideways(f);
-    class.par_iter_mut().zip(&side).for_each(|(c, &s)| {
-        if *c == Class::Ground && s > UPRIGHT {
+    let side = Sideways::new(f);
+    class.par_iter_mut().enumerate().for_each(|(i, c)| {
+        if *c == Class::Ground && side.at(i) > UPRIGHT {
             *c = Class::Wall;
         }
     });
@@ -70,7 +70,7 @@ pub fn settle(f: &Features, class: &mut [Class]) {
         .map(|i| {
             i >= from
                 && class[i] == Class::Wall
-                && side[i] < FLAT
+                && side.at(i) < FLAT
                 && saturation(f.rgb_at(i)) < FLAT_SATURATION
         })
         .collect();
@@ -89,9 +89,15 @@ pub fn settle(f: &Features, class: &mut [Class]) {
 /// 2% of the columns that have ground (a leak up a few columns does not
 /// count).
 fn farthest(class: &[Class], w: usize, h: usize) -> usize {
-    let mut tops: Vec<usize> = (0..w)
-        .filter_map(|x| (0..h).find(|&y| class[y * w + x] == Class::Ground))
-        .collect();
+    let mut top = vec![h; w];
+    for (y, row) in class.chunks_exact(w).enumerate() {
+        for (t, &c) in top.iter_mut().zip(row) {
+            if *t == h && c == Class::Ground {
+                *t = y;
+            }
+        }
+    }
+    let mut tops: Vec<usize> = top.into_iter().filter(|&t| t < h).collect();
     if tops.is_empty() {
         return h;
     }
@@ -108,45 +114,61 @@ fn saturation([r, g, b]: [f32; 3]) -> f32 {
     }
 }
 
-/// Per analysis pixel, the share of luma gradient energy that points
-/// sideways, Jxx / (Jxx + Jyy), over a box of a fortieth of the long side.
-/// The squared central differences are summed into cells of a grid at most
-/// [`GRID`] long (the box is wide: a coarse grid sees the same), box-averaged
-/// there and read back at each pixel's cell.
-pub fn sideways(f: &Features) -> Vec<f32> {
-    let (w, h) = (f.w, f.h);
-    let k = w.max(h).div_ceil(GRID).max(1);
-    let (gw, gh) = (w.div_ceil(k), h.div_ceil(k));
-    let l = &f.luma;
-    let cells: Vec<[f32; 2]> = (0..gh)
-        .into_par_iter()
-        .flat_map_iter(|gy| {
-            let mut row = vec![[0f32; 2]; gw];
-            for y in gy * k..((gy + 1) * k).min(h) {
-                let (up, down) = (y.saturating_sub(1) * w, (y + 1).min(h - 1) * w);
-                for x in 0..w {
-                    let gx = l[y * w + (x + 1).min(w - 1)] - l[y * w + x.saturating_sub(1)];
-                    let gy = l[down + x] - l[up + x];
-                    let c = &mut row[x / k];
-                    c[0] += gx * gx;
-                    c[1] += gy * gy;
+/// The share of luma gradient energy that points sideways, Jxx / (Jxx +
+/// Jyy), over a box of a fortieth of the long side. The squared central
+/// differences are summed into cells of a grid at most [`GRID`] long (the
+/// box is wide: a coarse grid sees the same) and box-averaged there; a
+/// pixel reads its cell.
+pub struct Sideways {
+    share: Vec<f32>,
+    /// Analysis pixels per cell, along each side.
+    k: usize,
+    /// Analysis width.
+    w: usize,
+    /// Grid width.
+    gw: usize,
+}
+
+impl Sideways {
+    /// Sums the photo's gradients.
+    pub fn new(f: &Features) -> Sideways {
+        let (w, h) = (f.w, f.h);
+        let k = w.max(h).div_ceil(GRID).max(1);
+        let (gw, gh) = (w.div_ceil(k), h.div_ceil(k));
+        let l = &f.luma;
+        let cells: Vec<[f32; 2]> = (0..gh)
+            .into_par_iter()
+            .flat_map_iter(|gy| {
+                let mut row = vec![[0f32; 2]; gw];
+                for y in gy * k..((gy + 1) * k).min(h) {
+                    let (up, down) = (y.saturating_sub(1) * w, (y + 1).min(h - 1) * w);
+                    for (cx, c) in row.iter_mut().enumerate() {
+                        for x in cx * k..((cx + 1) * k).min(w) {
+                            let gx = l[y * w + (x + 1).min(w - 1)] - l[y * w + x.saturating_sub(1)];
+                            let gy = l[down + x] - l[up + x];
+                            c[0] += gx * gx;
+                            c[1] += gy * gy;
+                        }
+                    }
                 }
-            }
-            row
-        })
-        .collect();
-    let r = (w.max(h) / 40 / k).max(1);
-    let jxx = box_mean(&cells.iter().map(|c| c[0]).collect::<Vec<_>>(), gw, gh, r);
-    let jyy = box_mean(&cells.iter().map(|c| c[1]).collect::<Vec<_>>(), gw, gh, r);
-    let share: Vec<f32> = jxx
-        .iter()
-        .zip(&jyy)
-        .map(|(a, b)| if a + b > 1e-9 { a / (a + b) } else { 0.5 })
-        .collect();
-    (0..w * h)
-        .into_par_iter()
-        .map(|i| share[(i / w / k) * gw + (i % w) / k])
-        .collect()
+                row
+            })
+            .collect();
+        let r = (w.max(h) / 40 / k).max(1);
+        let jxx = box_mean(&cells.iter().map(|c| c[0]).collect::<Vec<_>>(), gw, gh, r);
+        let jyy = box_mean(&cells.iter().map(|c| c[1]).collect::<Vec<_>>(), gw, gh, r);
+        let share = jxx
+            .iter()
+            .zip(&jyy)
+            .map(|(a, b)| if a + b > 1e-9 { a / (a + b) } else { 0.5 })
+            .collect();
+        Sideways { share, k, w, gw }
+    }
+
+    /// The share at analysis pixel `i` (row-major), 0..1.
+    pub fn at(&self, i: usize) -> f32 {
+        self.share[(i / self.w / self.k) * self.gw + (i % self.w) / self.k]
+    }
 }
 
 #[cfg(test)]
@@ -218,7 +240,7 @@ mod tests {
         let up = features(image::RgbImage::from_fn(200, 200, |x, _| {
             image::Rgb([if x % 10 < 5 { 60 } else { 200 }; 3])
         }));
-        assert!(sideways(&across)[100 * 200 + 100] < 0.05);
-        assert!(sideways(&up)[100 * 200 + 100] > 0.95);
+        assert!(Sideways::new(&across).at(100 * 200 + 100) < 0.05);
+        assert!(Sideways::new(&up).at(100 * 200 + 100) > 0.95);
     }
 }
