@@ -48,12 +48,11 @@ const GRID: usize = 256;
 /// Re-draws the ground in `class` (see the module's documentation). No
 /// ground, no change: close-ups and facades cut at their foot stay as they
 /// are.
-pub fn settle(f: &Features, class: &mut [Class]) {
+pub fn settle(f: &Features, side: &Sideways, class: &mut [Class]) {
     if !class.contains(&Class::Ground) {
         return;
     }
     let (w, h) = (f.w, f.h);
-    let side = Sideways::new(f);
     class.par_iter_mut().enumerate().for_each(|(i, c)| {
         if *c == Class::Ground && side.at(i) > UPRIGHT {
             *c = Class::Wall;

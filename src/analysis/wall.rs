@@ -77,8 +77,17 @@ pub fn classify(f: &Features) -> Vec<Class> {
     let (w, h) = (f.w, f.h);
     let n = w * h;
     let mut class = vec![Class::Wall; n];
-    // The sky's fills run on one thread: the paving joints go beside them.
-    let (sky, steps) = rayon::join(|| sky(f), || unjoint(f, (h as f32 * JOINT_BAND) as usize));
+    // The sky's fills run on one thread: the paving joints and the
+    // gradients' directions go beside them.
+    let (sky, (steps, side)) = rayon::join(
+        || sky(f),
+        || {
+            (
+                unjoint(f, (h as f32 * JOINT_BAND) as usize),
+                super::plane::Sideways::new(f),
+            )
+        },
+    );
     class.par_iter_mut().zip(&sky).for_each(|(c, &s)| {
         if s {
             *c = Class::Sky;
@@ -117,7 +126,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
     });
     ground(f, &steps, &mut class);
     glass(f, &mut class);
-    super::plane::settle(f, &mut class);
+    super::plane::settle(f, &side, &mut class);
     let other = class.iter().filter(|&&c| c != Class::Wall).count();
     if (other as f32) < CLOSE_UP * n as f32 {
         class.iter_mut().for_each(|c| *c = Class::Wall);
