@@ -412,7 +412,7 @@ fn median5(v: [f32; 5]) -> f32 {
 
 /// Paving joints are crossed in this bottom band (from this share of the
 /// height down); above it a thin dark line may be the foot of the wall.
-const JOINT_BAND: f32 = 0.8;
+pub(super) const JOINT_BAND: f32 = 0.8;
 /// A stretch's ground is refused when the colour a twelfth of the height
 /// above its top is this close (L1 of medians) to its own.
 const LIKE_ABOVE: f32 = 0.03;
