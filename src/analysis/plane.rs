@@ -61,9 +61,13 @@ pub fn settle(f: &Features, side: &Sideways, class: &mut [Class]) {
             *c = Class::Wall;
         }
     });
-    let bottom = &class[h * 4 / 5 * w..];
-    let on_ground = bottom.iter().filter(|&&c| c == Class::Ground).count();
-    if (on_ground as f32) < STREET * bottom.len() as f32 {
+    // The street test counts only ground that lies flat or is neither.
+    let bottom = h * 4 / 5 * w..w * h;
+    let n = bottom.len();
+    let on_ground = bottom
+        .filter(|&i| class[i] == Class::Ground && side.at(i) <= UPRIGHT)
+        .count();
+    if (on_ground as f32) < STREET * n as f32 {
         return;
     }
     let from = farthest(class, w, h).max((h as f32 * FLAT_FROM) as usize) * w;
