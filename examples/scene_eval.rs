@@ -5,7 +5,7 @@
 //! cargo run --release --example scene_eval -- cmp DIR             # DIR has cmp_bNNNN.jpg + .png
 //! cargo run --release --example scene_eval -- synthetic N [--size 4000x3000]
 //! ```
-//! Add `--dump OUT` to write each photo's overlay and classes into OUT,
+//! Add `--dump OUT` to write each photo's overlay, classes and matte into OUT,
 //! `--each` to print each photo's numbers.
 //! The datasets are research-only: keep them outside the repository.
 
@@ -70,6 +70,7 @@ fn main() -> anyhow::Result<()> {
                 })
             });
             colours.save(dir.join(format!("{name}-classes.png")))?;
+            a.matte.save(dir.join(format!("{name}-matte.png")))?;
         }
         m.add(a.as_ref(), truth);
         if args.iter().any(|a| a == "--each") {

@@ -21,6 +21,7 @@ pub mod eval;
 mod features;
 mod ledges;
 mod overlay;
+mod plane;
 mod scale;
 pub mod shelter;
 pub mod synthetic;

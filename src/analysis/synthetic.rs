@@ -6,7 +6,7 @@
 use image::{DynamicImage, Rgb, RgbImage};
 use rand::{Rng as _, SeedableRng};
 
-use super::eval::{Band, NEGATIVE, SKY, Truth, WALL_LABEL};
+use super::eval::{Band, CAR, GROUND, NEGATIVE, SKY, Truth, WALL_LABEL};
 use crate::photo::Photo;
 use crate::random::{Noise, Rng, mix};
 
@@ -154,6 +154,86 @@ pub fn scene(seed: u64, w: u32, h: u32) -> Scene {
             ledges,
             ledge_like: Vec::new(),
             storey_px: Some(storey),
+        },
+    }
+}
+
+/// What stands in front of the wall's foot in [`kerbside`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kerb {
+    /// A grey car parked on the road in front of the wall: a body with
+    /// window, trim and bumper bands across it and its shadow under it.
+    ParkedCar,
+    /// The left third of the wall in shade, as grey as the road, with the
+    /// vertical joints of boarding (the ground fill climbs it by colour).
+    ShadedBoards,
+    /// A facade seen square on, as in CMP: a pavement strip along the
+    /// bottom (from 93% of the height down) instead of the road, a grey
+    /// plinth with horizontal grooves from 60% down, and a grey planked
+    /// door in it down to the pavement (the ground fill climbs it).
+    Plinth,
+}
+
+/// Sky over a plaster wall over a road (from 70% of the height down),
+/// with `kerb` in front of or at the wall's foot. Labels: sky, wall,
+/// ground, car (the door of [`Kerb::Plinth`] is not scored).
+pub fn kerbside(kerb: Kerb, w: u32, h: u32) -> Scene {
+    let (fw, fh) = (w as f32, h as f32);
+    let grain = Noise::new(7, w, h, 2.0, 3);
+    let mut labels = vec![WALL_LABEL; (w * h) as usize];
+    let img = RgbImage::from_fn(w, h, |x, y| {
+        let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
+        let (u, v) = (px / fw, py / fh);
+        let i = (y * w + x) as usize;
+        let g = 12.0 * (grain.at(px, py) - 0.5);
+        let grey = |l: f32| Rgb([l + g, l + g, l * 1.04 + g].map(|c| c.clamp(0.0, 255.0) as u8));
+        if v < 0.15 {
+            labels[i] = SKY;
+            return Rgb([120, 170, 235]);
+        }
+        if kerb == Kerb::ParkedCar && (0.3..0.7).contains(&u) && (0.55..0.9).contains(&v) {
+            labels[i] = CAR;
+            return grey(match v {
+                v if v < 0.66 => 55.0,
+                v if (0.72..0.73).contains(&v) => 205.0,
+                v if (0.84..0.86).contains(&v) => 70.0,
+                v if v >= 0.86 => 25.0,
+                _ => 145.0,
+            });
+        }
+        if kerb == Kerb::Plinth && v >= 0.6 {
+            if v >= 0.93 {
+                labels[i] = GROUND;
+                return grey(100.0);
+            }
+            if (0.45..0.55).contains(&u) {
+                labels[i] = super::eval::IGNORE;
+                return grey(if y % 10 == 0 { 95.0 } else { 100.0 });
+            }
+            return grey(if y % 12 < 2 { 125.0 } else { 150.0 });
+        }
+        if v >= 0.7 && kerb != Kerb::Plinth {
+            labels[i] = GROUND;
+            return grey(100.0);
+        }
+        if kerb == Kerb::ShadedBoards && u < 1.0 / 3.0 && v >= 0.2 {
+            return grey(if x % 8 == 0 { 90.0 } else { 102.0 });
+        }
+        // Plaster, with a pilaster every sixth of the width.
+        let l = if (u * 6.0).fract() < 0.1 {
+            185.0
+        } else {
+            205.0
+        };
+        Rgb([l + g, l * 0.93 + g, l * 0.82 + g].map(|c| c.clamp(0.0, 255.0) as u8))
+    });
+    Scene {
+        photo: Photo::new(DynamicImage::ImageRgb8(img)),
+        truth: Truth {
+            width: w,
+            height: h,
+            labels: Some(labels),
+            ..Truth::default()
         },
     }
 }

@@ -77,8 +77,17 @@ pub fn classify(f: &Features) -> Vec<Class> {
     let (w, h) = (f.w, f.h);
     let n = w * h;
     let mut class = vec![Class::Wall; n];
-    // The sky's fills run on one thread: the paving joints go beside them.
-    let (sky, steps) = rayon::join(|| sky(f), || unjoint(f, (h as f32 * JOINT_BAND) as usize));
+    // The sky's fills run on one thread: the paving joints and the
+    // gradients' directions go beside them.
+    let (sky, (steps, side)) = rayon::join(
+        || sky(f),
+        || {
+            (
+                unjoint(f, (h as f32 * JOINT_BAND) as usize),
+                super::plane::Sideways::new(f),
+            )
+        },
+    );
     class.par_iter_mut().zip(&sky).for_each(|(c, &s)| {
         if s {
             *c = Class::Sky;
@@ -117,6 +126,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
     });
     ground(f, &steps, &mut class);
     glass(f, &mut class);
+    super::plane::settle(f, &side, &mut class);
     let other = class.iter().filter(|&&c| c != Class::Wall).count();
     if (other as f32) < CLOSE_UP * n as f32 {
         class.iter_mut().for_each(|c| *c = Class::Wall);
@@ -211,7 +221,7 @@ fn across_lines(f: &Features, core: &[bool], cand: &[bool]) -> Option<Vec<usize>
 
 /// Pixels of `cand` 4-connected to the seeds (indices into the row-major
 /// grid) through steps `step_ok(from, to)` allows.
-fn flood(
+pub(super) fn flood(
     cand: &[bool],
     w: usize,
     h: usize,
@@ -402,7 +412,7 @@ fn median5(v: [f32; 5]) -> f32 {
 
 /// Paving joints are crossed in this bottom band (from this share of the
 /// height down); above it a thin dark line may be the foot of the wall.
-const JOINT_BAND: f32 = 0.8;
+pub(super) const JOINT_BAND: f32 = 0.8;
 /// A stretch's ground is refused when the colour a twelfth of the height
 /// above its top is this close (L1 of medians) to its own.
 const LIKE_ABOVE: f32 = 0.03;
