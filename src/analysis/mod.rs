@@ -17,6 +17,7 @@
 //! assert!(!a.source_lines().is_empty());
 //! ```
 
+mod courses;
 pub mod eval;
 mod features;
 mod ledges;
@@ -195,7 +196,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
     let ((ledges, shelter, t_ledges), small) = rayon::join(
         || {
             let t2 = Instant::now();
-            let ledges = ledges::detect(&f, &classes);
+            let ledges = courses::drop_courses(ledges::detect(&f, &classes));
             let shelter = shelter::map(&f, &ledges);
             (ledges, shelter, ms(t2))
         },

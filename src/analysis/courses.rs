@@ -1,0 +1,181 @@
+//! Courses: stacks of evenly spaced, closely set horizontal edges (clapboard
+//! siding, brick or stone courses, shutter slats) are the wall's texture, not
+//! ledges. Each board of a clapboard wall sheds water onto the next over its
+//! whole width, so no streak starts at any one of them (`how-facades-age.md`:
+//! streaks start where a projection concentrates the run-off).
+//!
+//! A ledge is a course line when, among the ledges overlapping it along at
+//! least half the shorter one's width, it sits in a run of at least
+//! [`MIN_RUN`] lines whose consecutive gaps are alike (each within
+//! [`GAP_RATIO`] of the next: perspective changes them slowly) and small
+//! beside the lines' common width (at most [`MAX_GAP_PER_WIDTH`] of it). A
+//! storey's sills are a storey apart and a window wide, a tall building's
+//! floor slabs 3 m apart and tens of metres wide: both far above that.
+//! The stack's lowest line stays: the water that sheets down the boards
+//! leaves the wall there.
+
+use super::{Ledge, LedgeKind};
+
+/// Fewest evenly spaced lines that make a course stack.
+const MIN_RUN: usize = 4;
+/// Largest ratio between neighbouring gaps in a stack.
+const GAP_RATIO: f32 = 1.5;
+/// Largest gap, as a share of the common width of the two lines it separates.
+const MAX_GAP_PER_WIDTH: f32 = 0.08;
+
+/// The ledges without the course lines but the lowest of each stack (roof
+/// lines are always kept).
+pub fn drop_courses(ledges: Vec<Ledge>) -> Vec<Ledge> {
+    let course: Vec<bool> = (0..ledges.len()).map(|i| is_course(&ledges, i)).collect();
+    ledges
+        .into_iter()
+        .zip(course)
+        .filter_map(|(l, c)| (!c).then_some(l))
+        .collect()
+}
+
+fn span(l: &Ledge) -> (f32, f32) {
+    let (a, b) = (l.polyline[0][0], l.polyline[l.polyline.len() - 1][0]);
+    (a.min(b), a.max(b))
+}
+
+/// The polyline's height at `x` (clamped to its ends).
+fn y_at(l: &Ledge, x: f32) -> f32 {
+    let p = &l.polyline;
+    if x <= p[0][0] {
+        return p[0][1];
+    }
+    for s in p.windows(2) {
+        let ([x0, y0], [x1, y1]) = (s[0], s[1]);
+        if x <= x1 {
+            let t = if x1 > x0 { (x - x0) / (x1 - x0) } else { 0.0 };
+            return y0 + t * (y1 - y0);
+        }
+    }
+    p[p.len() - 1][1]
+}
+
+fn is_course(ledges: &[Ledge], i: usize) -> bool {
+    let me = &ledges[i];
+    if me.kind == LedgeKind::RoofLine || me.polyline.len() < 2 {
+        return false;
+    }
+    let (a0, a1) = span(me);
+    // The lines overlapping this one, with their common width, measured at
+    // the middle of the overlap.
+    let mut stack: Vec<(f32, f32)> = ledges
+        .iter()
+        .filter(|l| l.kind != LedgeKind::RoofLine && l.polyline.len() >= 2)
+        .filter_map(|l| {
+            let (b0, b1) = span(l);
+            let overlap = a1.min(b1) - a0.max(b0);
+            let shorter = (a1 - a0).min(b1 - b0);
+            (overlap > 0.0 && overlap >= 0.5 * shorter).then(|| {
+                let x = 0.5 * (a0.max(b0) + a1.min(b1));
+                (y_at(l, x) - y_at(me, x), overlap)
+            })
+        })
+        .collect();
+    stack.sort_by(|p, q| p.0.total_cmp(&q.0));
+    let Some(me_at) = stack.iter().position(|&(dy, _)| dy == 0.0) else {
+        return false;
+    };
+    let fits = |k: usize| {
+        // Gap between stack[k] and stack[k + 1].
+        let gap = stack[k + 1].0 - stack[k].0;
+        let width = stack[k].1.min(stack[k + 1].1);
+        gap > 0.0 && gap <= MAX_GAP_PER_WIDTH * width
+    };
+    let alike = |k: usize| {
+        let (g0, g1) = (stack[k + 1].0 - stack[k].0, stack[k + 2].0 - stack[k + 1].0);
+        g0.max(g1) <= GAP_RATIO * g0.min(g1)
+    };
+    // Grow the run of small, alike gaps around this line.
+    let (mut lo, mut hi) = (me_at, me_at);
+    while lo > 0 && fits(lo - 1) && (hi == lo || alike(lo - 1)) {
+        lo -= 1;
+    }
+    while hi + 1 < stack.len() && fits(hi) && (hi == lo || alike(hi - 1)) {
+        hi += 1;
+    }
+    // The stack's lowest line is its drip edge (the last board over the
+    // plinth, a moulding stack's lip): kept.
+    hi - lo + 1 >= MIN_RUN && hi != me_at
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ledge(kind: LedgeKind, x0: f32, x1: f32, y: f32) -> Ledge {
+        Ledge {
+            kind,
+            polyline: vec![[x0, y], [x1, y + 0.02 * (x1 - x0)]],
+            confidence: 1.0,
+        }
+    }
+
+    #[test]
+    fn clapboard_lines_are_dropped_and_ledges_beside_them_kept() {
+        // Siding: 12 boards 17 px apart across 300 px (gap 0.057 of the width).
+        let mut ls: Vec<Ledge> = (0..12)
+            .map(|k| ledge(LedgeKind::WindowHead, 0.0, 300.0, 200.0 + 17.0 * k as f32))
+            .collect();
+        // A sill on the siding: short, so the boards' gaps are large beside it.
+        ls.push(ledge(LedgeKind::Sill, 320.0, 380.0, 260.0));
+        // A cornice far above.
+        ls.push(ledge(LedgeKind::Cornice, 0.0, 600.0, 40.0));
+        ls.push(Ledge {
+            kind: LedgeKind::RoofLine,
+            polyline: vec![[0.0, 10.0], [300.0, 11.0], [600.0, 10.0]],
+            confidence: 1.0,
+        });
+        let kept = drop_courses(ls);
+        let kinds: Vec<LedgeKind> = kept.iter().map(|l| l.kind).collect();
+        assert_eq!(
+            kinds,
+            [
+                LedgeKind::WindowHead,
+                LedgeKind::Sill,
+                LedgeKind::Cornice,
+                LedgeKind::RoofLine
+            ]
+        );
+        // The board kept is the lowest: where the sheet of water leaves.
+        assert_eq!(kept[0].polyline[0][1], 200.0 + 17.0 * 11.0);
+    }
+
+    #[test]
+    fn storeys_of_sills_and_floor_slabs_stay() {
+        // Sills a storey apart in a column of windows, and a tall building's
+        // floor slabs 3 m apart across 30 m (gap 0.1 of the width).
+        let mut ls: Vec<Ledge> = (0..6)
+            .map(|k| ledge(LedgeKind::Sill, 100.0, 140.0, 50.0 + 100.0 * k as f32))
+            .collect();
+        ls.extend(
+            (0..8).map(|k| ledge(LedgeKind::Balcony, 200.0, 1200.0, 50.0 + 100.0 * k as f32)),
+        );
+        assert_eq!(drop_courses(ls.clone()).len(), ls.len());
+    }
+
+    #[test]
+    fn three_close_lines_are_not_a_stack() {
+        // A cornice's mouldings: three lines close together, kept.
+        let ls: Vec<Ledge> = (0..3)
+            .map(|k| ledge(LedgeKind::Cornice, 0.0, 500.0, 60.0 + 6.0 * k as f32))
+            .collect();
+        assert_eq!(drop_courses(ls).len(), 3);
+    }
+
+    #[test]
+    fn uneven_gaps_are_not_courses() {
+        // Four long lines, but the gaps are 10, 40 and 10 px: a string course
+        // and a cornice's mouldings, not siding.
+        let ys = [100.0, 110.0, 150.0, 160.0];
+        let ls: Vec<Ledge> = ys
+            .iter()
+            .map(|&y| ledge(LedgeKind::StringCourse, 0.0, 800.0, y))
+            .collect();
+        assert_eq!(drop_courses(ls).len(), 4);
+    }
+}
