@@ -314,3 +314,24 @@ fn an_animation_of_a_larger_photo_previews_each_run_at_its_age() {
         }
     }
 }
+
+#[test]
+fn the_readme_shows_the_timelapse_gif() {
+    use image::AnimationDecoder;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let section = readme
+        .split("### Age in years, the time-lapse, the recipe")
+        .nth(1)
+        .expect("README has the time-lapse section");
+    assert!(
+        section.contains("](docs/ageing.gif)"),
+        "the time-lapse section embeds docs/ageing.gif"
+    );
+    let file = std::io::BufReader::new(std::fs::File::open(root.join("docs/ageing.gif")).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(file)
+        .unwrap()
+        .into_frames()
+        .count();
+    assert!(frames > 10, "docs/ageing.gif has {frames} frames");
+}

@@ -29,7 +29,7 @@ use crate::progress::Progress;
 use crate::stack::Stack;
 
 pub use frames::{Frame, run_frames, run_sharing_rain};
-pub use previews::{KEY_EVERY, run_previews};
+pub use previews::{KEY_EVERY, key_frames, run_previews};
 pub use report::{GridReport, LayerReport, Report, Size, Timing};
 pub use scene::Scene;
 pub use site::{ASSUMED_WALL_WIDTH_M, Site};

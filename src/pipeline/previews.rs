@@ -34,7 +34,7 @@ pub const KEY_EVERY: usize = 10;
 /// The frames of `small` (the scene the full-size run `full` was made on,
 /// scaled to the frame size) at `frames` (presets scaled alike, differing
 /// from `last` only in the clock), with the rain the full-size run gave
-/// (`rain`, kept after each frame's rainfalls). Calls `each` with every
+/// (`rain`, kept after each [`key_frames`]' rainfalls). Calls `each` with every
 /// frame's index and layers, in order.
 ///
 /// # Errors
@@ -170,8 +170,8 @@ pub fn run_previews(
 /// Which frames are key frames: the first, the last and every
 /// [`KEY_EVERY`]-th; every frame when the ages do not rise from frame to
 /// frame (a cross-fade needs the frames between two keys to lie between
-/// their ages).
-fn key_frames(frames: &[Preset]) -> Vec<usize> {
+/// their ages). The full-size run need keep its rain only at these.
+pub fn key_frames(frames: &[Preset]) -> Vec<usize> {
     let n = frames.len();
     let rising = frames
         .windows(2)
@@ -358,5 +358,65 @@ fn with_pixels(l: &Layer, pixels: LayerPixels) -> Layer {
         opacity: l.opacity,
         visible: l.visible,
         pixels,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(years: &[u32]) -> Vec<Preset> {
+        years
+            .iter()
+            .map(|&y| {
+                let mut p = Preset::default();
+                p.age.years = Some(y);
+                p
+            })
+            .collect()
+    }
+
+    #[test]
+    fn key_frames_are_every_tenth_and_the_last_or_all_out_of_order() {
+        let thirty: Vec<u32> = (0..=30).collect();
+        assert_eq!(key_frames(&at(&thirty)), [0, 10, 20, 30]);
+        assert_eq!(key_frames(&at(&[0, 4, 12])), [0, 2]);
+        assert_eq!(key_frames(&at(&[4, 1, 4])), [0, 1, 2]);
+    }
+
+    #[test]
+    fn cross_fades_run_from_one_layer_to_the_other() {
+        let a = RgbaImage::from_raw(3, 1, vec![200, 0, 0, 255, 0, 0, 0, 0, 9, 9, 9, 0]).unwrap();
+        let b =
+            RgbaImage::from_raw(3, 1, vec![0, 0, 200, 255, 0, 200, 0, 100, 9, 9, 9, 0]).unwrap();
+        assert_eq!(mix_rgba(&a, &b, 0.0).as_raw()[..8], a.as_raw()[..8]);
+        assert_eq!(mix_rgba(&a, &b, 1.0).as_raw()[..8], b.as_raw()[..8]);
+        let half = mix_rgba(&a, &b, 0.5);
+        // Opaque to opaque: the colours' mean; a colour fading in from
+        // nothing keeps its colour, at half its coverage; none stays none.
+        assert_eq!(
+            half.as_raw(),
+            &[100, 0, 100, 255, 0, 200, 0, 50, 0, 0, 0, 0]
+        );
+        let ga = GrayImage::from_raw(2, 1, vec![0, 255]).unwrap();
+        let gb = GrayImage::from_raw(2, 1, vec![255, 55]).unwrap();
+        assert_eq!(lerp_bytes(&ga, &gb, 0.25), [64, 205]);
+        let layer = Layer {
+            name: "moss".into(),
+            kind: Some(Effect::Moss),
+            blend: crate::stack::BlendMode::Normal,
+            opacity: 0.5,
+            visible: true,
+            pixels: LayerPixels::Rgba(b.clone()),
+        };
+        // Against no layer at all: the layer faded in.
+        let faded = mix_layers(&[], std::slice::from_ref(&layer), 0.5);
+        match &faded[0].pixels {
+            LayerPixels::Rgba(img) => {
+                assert_eq!(img.as_raw()[..8], [0, 0, 200, 128, 0, 200, 0, 50])
+            }
+            LayerPixels::Tint { .. } => panic!("not RGBA"),
+        }
+        assert!(mix_layers(&[], &[], 0.5).is_empty());
     }
 }

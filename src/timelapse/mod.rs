@@ -239,7 +239,12 @@ fn previews(
     recipe: &Recipe,
     progress: &Progress,
 ) -> Result<Outcome> {
-    let (out, rain) = pipeline::run_sharing_rain(scene, preset, presets, &progress.span(0.0, 0.5))?;
+    // The rain is kept only where the key frames need it.
+    let keys: Vec<Preset> = pipeline::key_frames(presets)
+        .into_iter()
+        .map(|k| presets[k].clone())
+        .collect();
+    let (out, rain) = pipeline::run_sharing_rain(scene, preset, &keys, &progress.span(0.0, 0.5))?;
     let (w, h) = scene.size();
     let (fw, fh) = crate::shrink::fit(w, h, t.max_side);
     let (sx, sy) = (fw as f32 / w as f32, fh as f32 / h as f32);
