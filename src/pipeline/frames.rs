@@ -29,13 +29,14 @@ use crate::stack::{Layer, Partial, Stack};
 
 /// One frame: the scene's layers at the frame's age.
 pub struct Frame<'a> {
-    stack: &'a Stack,
+    /// The run's stack (its photo and region).
+    pub(super) stack: &'a Stack,
     /// Every layer, bottom to top.
-    layers: Vec<&'a Layer>,
+    pub(super) layers: Vec<&'a Layer>,
     /// The photo with the lowest layers, which the frames share.
-    below: &'a Partial,
+    pub(super) below: &'a Partial,
     /// The layers above `below`.
-    above: Vec<&'a Layer>,
+    pub(super) above: Vec<&'a Layer>,
 }
 
 impl Frame<'_> {
@@ -54,25 +55,8 @@ impl Frame<'_> {
     }
 }
 
-/// Runs `scene` at `last` (the oldest age), then calls `each` with every
-/// frame's index and layers, in order; returns the outcome at `last`.
-///
-/// # Errors
-/// [`Error::OutOfRange`] when a frame's preset differs from `last` other
-/// than in the clock's fields or asks for more rainfalls; the pipeline's
-/// errors; `each`'s.
-pub fn run_frames(
-    scene: &Scene,
-    last: &Preset,
-    frames: &[Preset],
-    progress: &Progress,
-    each: &mut dyn FnMut(usize, Frame) -> Result<()>,
-) -> Result<Outcome> {
-    run_frames_with(scene, last, frames, None, progress, each)
-}
-
 /// [`super::run`] at `last`, and its rain with the walls it kept after each
-/// of `frames`' rainfalls, for [`run_frames_with`] on the scene scaled;
+/// of `frames`' rainfalls, for [`super::run_previews`] on the scene scaled;
 /// no rain with a wall plane (its grid is on the plane, not the photo).
 ///
 /// # Errors
@@ -98,17 +82,17 @@ pub fn run_sharing_rain(
     Ok((out, rain))
 }
 
-/// [`run_frames`], taking `rain` (the full-size photo's, for its frames
-/// drawn smaller) instead of simulating it when it fits
-/// ([`Products::given_rain`]).
+/// Runs `scene` at `last` (the oldest age), then calls `each` with every
+/// frame's index and layers, in order; returns the outcome at `last`.
 ///
 /// # Errors
-/// As [`run_frames`].
-pub fn run_frames_with(
+/// [`Error::OutOfRange`] when a frame's preset differs from `last` other
+/// than in the clock's fields or asks for more rainfalls; the pipeline's
+/// errors; `each`'s.
+pub fn run_frames(
     scene: &Scene,
     last: &Preset,
     frames: &[Preset],
-    rain: Option<GivenRain>,
     progress: &Progress,
     each: &mut dyn FnMut(usize, Frame) -> Result<()>,
 ) -> Result<Outcome> {
@@ -120,7 +104,6 @@ pub fn run_frames_with(
         ..Cache::none()
     };
     cache.products.keep_rain_at = frames.iter().map(|f| f.rain.layers).collect();
-    cache.products.given_rain = rain;
     let share = 1.0 / (frames.len() + 1) as f32;
     let full = run_cached(scene, last, &progress.span(0.0, share), &mut cache)?;
     let kept = std::mem::take(&mut cache.products.rain_kept);
@@ -249,7 +232,7 @@ pub fn run_frames_with(
 
 /// A frame may differ from the last only in the clock and ask for no more
 /// rainfalls than it.
-fn check_frame(frame: &Preset, last: &Preset) -> Result<()> {
+pub(super) fn check_frame(frame: &Preset, last: &Preset) -> Result<()> {
     let mut same = frame.clone();
     same.age.years = last.age.years;
     same.rain.layers = last.rain.layers;

@@ -10,6 +10,7 @@
 //! whose fields changed ([`crate::effects::stale`]).
 
 mod frames;
+mod previews;
 mod report;
 mod scene;
 mod site;
@@ -27,7 +28,8 @@ use crate::preset::Preset;
 use crate::progress::Progress;
 use crate::stack::Stack;
 
-pub use frames::{Frame, run_frames, run_frames_with, run_sharing_rain};
+pub use frames::{Frame, run_frames, run_sharing_rain};
+pub use previews::{KEY_EVERY, key_frames, run_previews};
 pub use report::{GridReport, LayerReport, Report, Size, Timing};
 pub use scene::Scene;
 pub use site::{ASSUMED_WALL_WIDTH_M, Site};

@@ -3,8 +3,9 @@
 //! frames. The frames come from one run ([`crate::pipeline::run_frames`]):
 //! the rain is simulated once; each frame equals `grime run --years K`.
 //! An animation of a photo larger than its frame size is drawn at that
-//! size instead: each frame is then the run at its age of the photo
-//! scaled to the frame size, a preview of the full-size run.
+//! size instead, from the full-size run's layers shrunk
+//! ([`crate::pipeline::run_previews`]): a preview of the full-size run at
+//! each age.
 
 pub mod caption;
 
@@ -222,11 +223,14 @@ pub fn run(
 }
 
 /// An animation of a photo larger than its frames: the run at full size,
-/// and the frames drawn at their size, each the run of the scene and
-/// presets scaled to it ([`Scene::scaled`], [`Preset::scaled`]) at the
-/// frame's age, with the full-size run's rain read on their grid. A frame
-/// is so a preview of the full-size run at its age (tested within a
-/// tolerance), and costs its moss, dust and composite at the frame size.
+/// and the frames drawn at their size on the scene and presets scaled to
+/// it ([`Scene::scaled`], [`Preset::scaled`]): the full-size run's layers
+/// shrunk once, its rain kept at each frame's rainfalls, moss, dust and
+/// washed runs made at a few key frames and cross-faded between them
+/// ([`pipeline::run_previews`]). A frame is so a preview of the full-size
+/// run at its age (tested within a tolerance). In a wall plane, whose rain
+/// is not handed over, each frame is the run of the scaled scene at its age
+/// ([`pipeline::run_frames`]).
 fn previews(
     scene: &Scene,
     preset: &Preset,
@@ -235,28 +239,43 @@ fn previews(
     recipe: &Recipe,
     progress: &Progress,
 ) -> Result<Outcome> {
-    let (out, rain) = pipeline::run_sharing_rain(scene, preset, presets, &progress.span(0.0, 0.5))?;
+    // The rain is kept only where the key frames need it.
+    let keys: Vec<Preset> = pipeline::key_frames(presets)
+        .into_iter()
+        .map(|k| presets[k].clone())
+        .collect();
+    let (out, rain) = pipeline::run_sharing_rain(scene, preset, &keys, &progress.span(0.0, 0.5))?;
     let (w, h) = scene.size();
     let (fw, fh) = crate::shrink::fit(w, h, t.max_side);
     let (sx, sy) = (fw as f32 / w as f32, fh as f32 / h as f32);
     let small = scene.scaled(fw, fh);
     let small_presets: Vec<Preset> = presets.iter().map(|p| p.scaled(sx, sy)).collect();
+    let small_last = preset.scaled(sx, sy);
     let mut frames = Vec::with_capacity(presets.len());
-    pipeline::run_frames_with(
-        &small,
-        &preset.scaled(sx, sy),
-        &small_presets,
-        rain,
-        &progress.span(0.5, 1.0),
-        &mut |i, frame| {
-            let mut rgba = frame.composite().to_rgba8();
-            if t.caption {
-                caption::draw(&mut rgba, years[i]);
-            }
-            frames.push(rgba);
-            Ok(())
-        },
-    )?;
+    let mut each = |i: usize, frame: pipeline::Frame| {
+        let mut rgba = frame.composite().to_rgba8();
+        if t.caption {
+            caption::draw(&mut rgba, years[i]);
+        }
+        frames.push(rgba);
+        Ok(())
+    };
+    let span = progress.span(0.5, 1.0);
+    match &rain {
+        Some(rain) => pipeline::run_previews(
+            &small,
+            &small_last,
+            &small_presets,
+            &out,
+            rain,
+            &span,
+            &mut each,
+        )?,
+        // In a wall plane: the frames' own rain.
+        None => {
+            pipeline::run_frames(&small, &small_last, &small_presets, &span, &mut each)?;
+        }
+    }
     write_animation(t, t.kind()?, &frames, recipe)?;
     Ok(out)
 }
@@ -290,7 +309,8 @@ fn encode_error(path: &Path, e: impl std::fmt::Display) -> Error {
 /// An animated GIF, looping, with one palette for all frames (NeuQuant,
 /// trained on the first and last frame): a colour keeps its index from
 /// frame to frame, so the wall does not flicker as it ages. Each frame's
-/// pixels are mapped to it in parallel.
+/// pixels are mapped to it (through a table of colours at 6 bits a
+/// channel) and LZW-coded in parallel.
 fn write_gif(path: &Path, frames: &[RgbaImage], frame_ms: u16) -> Result<()> {
     use rayon::prelude::*;
     let (Some(first), Some(last)) = (frames.first(), frames.last()) else {
@@ -305,20 +325,35 @@ fn write_gif(path: &Path, frames: &[RgbaImage], frame_ms: u16) -> Result<()> {
     let mut sample = first.as_raw().clone();
     sample.extend_from_slice(last.as_raw());
     let quant = color_quant::NeuQuant::new(10, 256, &sample);
+    // Each colour's palette index, read from a table of colours at 6 bits
+    // a channel (the centre of each cell mapped once): a colour is at most
+    // 2 levels a channel from its cell's, against the palette's 256
+    // colours for the photo's millions.
+    let lut: Vec<u8> = (0..1usize << 18)
+        .into_par_iter()
+        .map(|i| {
+            let level = |shift: usize| (((i >> shift) & 63) << 2 | 2) as u8;
+            quant.index_of(&[level(12), level(6), level(0), 255]) as u8
+        })
+        .collect();
     let indexed: Vec<gif::Frame> = frames
         .par_iter()
         .enumerate()
-        .map(|(i, f)| gif::Frame {
-            width: w,
-            height: h,
-            buffer: f
-                .as_raw()
-                .chunks_exact(4)
-                .map(|p| quant.index_of(p) as u8)
-                .collect::<Vec<u8>>()
-                .into(),
-            delay: delay(i, frames.len(), frame_ms) / 10,
-            ..gif::Frame::default()
+        .map(|(i, f)| {
+            let mut frame = gif::Frame {
+                width: w,
+                height: h,
+                buffer: f
+                    .as_raw()
+                    .chunks_exact(4)
+                    .map(|p| lut[lut_index(p)])
+                    .collect::<Vec<u8>>()
+                    .into(),
+                delay: delay(i, frames.len(), frame_ms) / 10,
+                ..gif::Frame::default()
+            };
+            frame.make_lzw_pre_encoded();
+            frame
         })
         .collect();
     io::write_atomic(path, |out| {
@@ -327,10 +362,16 @@ fn write_gif(path: &Path, frames: &[RgbaImage], frame_ms: u16) -> Result<()> {
         gif.set_repeat(gif::Repeat::Infinite)
             .map_err(|e| encode_error(path, e))?;
         for frame in &indexed {
-            gif.write_frame(frame).map_err(|e| encode_error(path, e))?;
+            gif.write_lzw_pre_encoded_frame(frame)
+                .map_err(|e| encode_error(path, e))?;
         }
         Ok(())
     })
+}
+
+/// The cell of a colour (RGBA, alpha ignored) in the 6-bit table.
+fn lut_index(p: &[u8]) -> usize {
+    ((p[0] as usize >> 2) << 12) | ((p[1] as usize >> 2) << 6) | (p[2] as usize >> 2)
 }
 
 /// An animated PNG (8-bit RGBA), looping, with the run's recipe.
