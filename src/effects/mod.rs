@@ -291,11 +291,6 @@ pub struct Products {
     pub keep_rain_at: Vec<u32>,
     /// The walls it kept, in rainfall order.
     pub rain_kept: Vec<Arc<rain::Kept>>,
-    /// Another run's rain, taken instead of simulating when it has the
-    /// preset's rainfalls and kept every wall asked for (a time-lapse's
-    /// frames drawn at a smaller size than the photo show the full-size
-    /// run's rain, read on their grid).
-    pub given_rain: Option<rain::regrid::GivenRain>,
     /// What a time-lapse's frames carry from one to the next (the dust so
     /// far, maps that do not age); `None` in a plain run.
     pub carry: Option<Box<carry::Carry>>,

@@ -52,34 +52,22 @@ pub(super) fn rain(
 ) -> Result<Produced> {
     let grid = ctx.grid;
     let r = &preset.rain;
-    let given = products.given_rain.take().filter(|g| {
-        g.out.layers.len() == r.layers as usize
-            && products
-                .keep_rain_at
-                .iter()
-                .all(|n| g.kept.iter().any(|k| k.rainfalls == *n))
-    });
-    let (out, kept) = match given {
-        Some(given) => given.on(grid, ctx.size()),
-        None => {
-            let input = RainInput {
-                luma: ctx.luma,
-                region: ctx.region,
-                source_lines: grid_lines(ctx, r),
-                catch: r.source_lines.iter().map(|l| catch(ctx, l)).collect(),
-                release: release(ctx, r),
-                washed: preset.stain.washed_opacity > 0.0,
-            };
-            let (out, kept) = rain::simulate_keeping(
-                &input,
-                r,
-                preset.seed,
-                &progress.span(0.0, 0.87),
-                &products.keep_rain_at,
-            )?;
-            (Arc::new(out), kept.into_iter().map(Arc::new).collect())
-        }
+    let input = RainInput {
+        luma: ctx.luma,
+        region: ctx.region,
+        source_lines: grid_lines(ctx, r),
+        catch: r.source_lines.iter().map(|l| catch(ctx, l)).collect(),
+        release: release(ctx, r),
+        washed: preset.stain.washed_opacity > 0.0,
     };
+    let (out, kept) = rain::simulate_keeping(
+        &input,
+        r,
+        preset.seed,
+        &progress.span(0.0, 0.87),
+        &products.keep_rain_at,
+    )?;
+    let (out, kept) = (Arc::new(out), kept.into_iter().map(Arc::new).collect());
     let mut stainer = Stainer::new(ctx, preset);
 
     let d_max = rain::stain::d_max(&out.layers, preset.stain.percentile);
