@@ -359,10 +359,11 @@ impl Gmm {
     }
 
     fn log_component(&self, j: usize, x: &[f32; D]) -> f32 {
-        let mut q = 0.0;
-        for d in 0..D {
-            q += (x[d] - self.mean[j][d]).powi(2) * self.inv[j][d];
-        }
+        let q = x
+            .iter()
+            .zip(&self.mean[j])
+            .zip(&self.inv[j])
+            .fold(0.0, |q, ((x, m), i)| q + (x - m).powi(2) * i);
         self.norm[j] - 0.5 * q
     }
 
