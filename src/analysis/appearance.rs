@@ -123,7 +123,9 @@ pub fn relabel(f: &Features, side: &Sideways, class: &mut [Class]) {
             teach[c] |= old[c] == Some(j) && near[c] > 0.999;
         }
     }
+    // Each class's fit on its own thread (the same sums at any count).
     let models: Vec<Option<Gmm>> = (0..CLASSES.len())
+        .into_par_iter()
         .map(|j| {
             let xs: Vec<[f32; D]> = (0..n)
                 .filter(|&c| teach[c] && old[c] == Some(j))
@@ -316,7 +318,8 @@ impl Gmm {
             if it + 1 == EM_STEPS {
                 break;
             }
-            for (x, r) in xs.iter().zip(soft.chunks_exact_mut(k)) {
+            let g = &g;
+            soft.par_chunks_mut(k).zip(xs).for_each(|(r, x)| {
                 let mut mx = f32::NEG_INFINITY;
                 for (j, v) in r.iter_mut().enumerate() {
                     *v = g.log_component(j, x);
@@ -328,7 +331,7 @@ impl Gmm {
                     s += *v;
                 }
                 r.iter_mut().for_each(|v| *v /= s);
-            }
+            });
         }
         g
     }
