@@ -17,6 +17,7 @@
 //! assert!(!a.source_lines().is_empty());
 //! ```
 
+mod appearance;
 mod courses;
 pub mod eval;
 mod features;
