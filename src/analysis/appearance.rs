@@ -20,7 +20,7 @@ use super::plane::Sideways;
 use super::wall::Class;
 
 /// The grid is at most this long (cells of whole analysis pixels).
-const GRID: usize = 256;
+const GRID: usize = 128;
 
 /// Classes the models are fitted for and cells may take (glass stays).
 const CLASSES: [Class; 4] = [Class::Wall, Class::Sky, Class::Vegetation, Class::Ground];
