@@ -18,11 +18,13 @@ pub const WINDOW_M: f32 = 1.4;
 /// Wall width assumed when nothing else is known, metres.
 pub const DEFAULT_WIDTH_M: f32 = 10.0;
 
-/// Estimates the scale; `ledges` in photo pixels.
+/// Estimates the scale; `ledges` in photo pixels, `jambs` the storey
+/// from [`storey_from_jambs`].
 pub fn estimate(
     f: &Features,
     class: &[Class],
     ledges: &[Ledge],
+    jambs: Option<f32>,
     wall_width_m: Option<f32>,
 ) -> Scale {
     let (w, h) = (f.w, f.h);
@@ -38,7 +40,7 @@ pub fn estimate(
         };
     }
     // Rows of windows: the period of the jambs' row profile.
-    if let Some(storey) = storey_from_jambs(f, class) {
+    if let Some(storey) = jambs {
         return Scale {
             metres_per_pixel: STOREY_M / (storey * f.sy),
             source: ScaleSource::StoreyHeight,
@@ -132,7 +134,7 @@ const MIN_PERIOD_AC: f32 = 0.1;
 /// spacing of glass blobs, which splits at transoms and misses curtained
 /// panes; on CMP within 1.5x of the labels' storey for 0.71 of the photos
 /// against 0.56; a photo taken at a slant smears the rows]. None when no row profile or no periodic peak.
-fn storey_from_jambs(f: &Features, class: &[Class]) -> Option<f32> {
+pub fn storey_from_jambs(f: &Features, class: &[Class]) -> Option<f32> {
     let (w, h) = (f.w, f.h);
     if w < 3 || h < 20 {
         return None;
@@ -250,7 +252,7 @@ mod tests {
             let (sx, sy) = (x % 80, (y - 40) % storey);
             let v = match (sx, sy) {
                 (20..60, 20..80) => {
-                    let frame = sx < 24 || sx >= 56 || sy < 24 || sy >= 76;
+                    let frame = !(24..56).contains(&sx) || !(24..76).contains(&sy);
                     if frame || (41..45).contains(&sy) {
                         0.95
                     } else {
@@ -263,7 +265,7 @@ mod tests {
         });
         let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 512);
         let class = super::super::wall::classify(&f);
-        let s = estimate(&f, &class, &[], None);
+        let s = estimate(&f, &class, &[], storey_from_jambs(&f, &class), None);
         let truth = STOREY_M / storey as f32;
         assert_eq!(s.source, ScaleSource::StoreyHeight);
         assert!(
