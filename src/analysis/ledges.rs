@@ -188,7 +188,7 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
 /// storey above or below it (within a tenth of the storey or 1.5% of the
 /// height `h`) over at least half the shorter one's columns. Sills,
 /// heads and hoods repeat from storey to storey; a stain, a crack or a
-/// brick course does not (on CMP, with [`MIN_STEP`] 0.045: recall 0.819
+/// brick course does not (on CMP, with [`MIN_STEP`] 0.045: recall 0.819 (offline)
 /// -> 0.808, precision 0.302 -> 0.325; see BENCHMARKS.md, sixth pass).
 fn alone(ledges: &[Ledge], i: usize, storey: f32, w: usize, h: usize) -> bool {
     let l = &ledges[i];
