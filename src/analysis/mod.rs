@@ -194,12 +194,13 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
     let t_classes = ms(t1);
     let t3 = Instant::now();
     // Ledges and the matte need only the classes: side by side.
-    let ((ledges, shelter, t_ledges), small) = rayon::join(
+    let ((ledges, shelter, storey, t_ledges), small) = rayon::join(
         || {
             let t2 = Instant::now();
-            let ledges = courses::drop_courses(ledges::detect(&f, &classes));
+            let storey = scale::storey_from_jambs(&f, &classes);
+            let ledges = courses::drop_courses(ledges::detect(&f, &classes, storey));
             let shelter = shelter::map(&f, &ledges);
-            (ledges, shelter, ms(t2))
+            (ledges, shelter, storey, ms(t2))
         },
         || wall::refine(&f, &classes),
     );
@@ -219,7 +220,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
             ..l
         })
         .collect();
-    let scale = scale::estimate(&f, &classes, &ledges, opts.wall_width_m);
+    let scale = scale::estimate(&f, &classes, &ledges, storey, opts.wall_width_m);
     Ok(Analysis {
         width: photo.width(),
         height: photo.height(),

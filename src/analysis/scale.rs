@@ -1,8 +1,11 @@
 //! Metres per pixel from what the building shows: the spacing of storeys
-//! (rows of sills or window heads, 3.1 m apart), else the windows' height
+//! (3.1 m apart: the period of the rows of window jambs, else rows of
+//! glass, sills or window heads), else the windows' height
 //! (1.4 m), else the user's wall width, else a 10 m wide wall
 //! (how-facades-age.md, "Scale anchors"). A wall width given by the user
 //! wins over every estimate.
+
+use rayon::prelude::*;
 
 use super::features::Features;
 use super::wall::Class;
@@ -15,11 +18,13 @@ pub const WINDOW_M: f32 = 1.4;
 /// Wall width assumed when nothing else is known, metres.
 pub const DEFAULT_WIDTH_M: f32 = 10.0;
 
-/// Estimates the scale; `ledges` in photo pixels.
+/// Estimates the scale; `ledges` in photo pixels, `jambs` the storey
+/// from [`storey_from_jambs`].
 pub fn estimate(
     f: &Features,
     class: &[Class],
     ledges: &[Ledge],
+    jambs: Option<f32>,
     wall_width_m: Option<f32>,
 ) -> Scale {
     let (w, h) = (f.w, f.h);
@@ -32,6 +37,13 @@ pub fn estimate(
         return Scale {
             metres_per_pixel: m / wall_cols,
             source: ScaleSource::UserWidth,
+        };
+    }
+    // Rows of windows: the period of the jambs' row profile.
+    if let Some(storey) = jambs {
+        return Scale {
+            metres_per_pixel: STOREY_M / (storey * f.sy),
+            source: ScaleSource::StoreyHeight,
         };
     }
     // Rows of windows: the tops of the glass blobs.
@@ -103,6 +115,77 @@ pub fn storey_px(mut ys: Vec<f32>, height: f32) -> Option<f32> {
     Some(gaps[gaps.len() / 2])
 }
 
+/// A row counts in the jambs' profile when at least this share of it is
+/// not sky.
+const PROFILE_ROW: f32 = 0.25;
+/// The storey is the shortest period whose autocorrelation is at least
+/// this share of the strongest (measured on CMP's first half and checked
+/// on its second: 0.4 to 0.8 all within 0.02 of the share within 1.5x).
+const PERIOD_SHARE: f32 = 0.6;
+/// Periods weaker than this normalised autocorrelation are not trusted.
+const MIN_PERIOD_AC: f32 = 0.1;
+
+/// The storey height (analysis pixels) as the period of the facade's rows
+/// of windows: the mean horizontal luma step (vertical edges: window
+/// jambs, frames, mullions) along each row below the sky is high across
+/// a row of windows and low on the wall between, a square wave whose
+/// period is the storey. Its autocorrelation's first strong peak between
+/// 6% and 50% of the height is that period [choice: rather than the
+/// spacing of glass blobs, which splits at transoms and misses curtained
+/// panes; on CMP within 1.5x of the labels' storey for 0.71 of the photos
+/// against 0.56; a photo taken at a slant smears the rows]. None when no row profile or no periodic peak.
+pub fn storey_from_jambs(f: &Features, class: &[Class]) -> Option<f32> {
+    let (w, h) = (f.w, f.h);
+    if w < 3 || h < 20 {
+        return None;
+    }
+    // Trees, cars and glass in front of the facade still show its rows
+    // (counting only wall and glass measured 0.689 on CMP, against 0.711).
+    let facade = |c: Class| c != Class::Sky;
+    let rows: Vec<Option<f32>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let (mut s, mut n) = (0f32, 0usize);
+            for x in 1..w - 1 {
+                if facade(class[y * w + x]) {
+                    s += (f.luma[y * w + x + 1] - f.luma[y * w + x - 1]).abs();
+                    n += 1;
+                }
+            }
+            (n as f32 >= PROFILE_ROW * w as f32).then(|| s / n as f32)
+        })
+        .collect();
+    let valid: Vec<f32> = rows.iter().flatten().copied().collect();
+    if valid.len() < h / 4 {
+        return None;
+    }
+    let mean = valid.iter().sum::<f32>() / valid.len() as f32;
+    // Rows that are not facade sit at the mean: they add nothing.
+    let p: Vec<f32> = rows.iter().map(|r| r.map_or(0.0, |v| v - mean)).collect();
+    let energy = p.iter().map(|v| v * v).sum::<f32>() / h as f32;
+    if energy <= 1e-12 {
+        return None;
+    }
+    let ac = |lag: usize| {
+        let s: f32 = p[..h - lag].iter().zip(&p[lag..]).map(|(a, b)| a * b).sum();
+        s / (h - lag) as f32 / energy
+    };
+    let (lo, hi) = (((0.06 * h as f32) as usize).max(2), h / 2);
+    let acs: Vec<f32> = (lo - 1..=hi + 1).map(ac).collect();
+    let peaks: Vec<(usize, f32)> = (1..acs.len() - 1)
+        .filter(|&i| acs[i] > 0.0 && acs[i] >= acs[i - 1] && acs[i] >= acs[i + 1])
+        .map(|i| (lo - 1 + i, acs[i]))
+        .collect();
+    let best = peaks.iter().map(|p| p.1).fold(0f32, f32::max);
+    if best < MIN_PERIOD_AC {
+        return None;
+    }
+    peaks
+        .iter()
+        .find(|p| p.1 >= PERIOD_SHARE * best)
+        .map(|p| p.0 as f32)
+}
+
 /// Median height (analysis pixels) of the glass blobs.
 fn window_height_px(class: &[Class], w: usize, h: usize) -> Option<f32> {
     let mut heights = Vec::new();
@@ -147,5 +230,47 @@ pub fn parse_metres(s: &str) -> crate::Result<f32> {
             value: s.to_string(),
             range: "a positive length such as 14m or 1400cm".into(),
         }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::photo::Photo;
+
+    #[test]
+    fn the_storey_is_the_period_of_the_window_rows_not_of_their_panes() {
+        // Plaster 0.75 under a strip of sky; four storeys of 100 px from
+        // y 40, each with five windows 60 px tall whose two panes (dark
+        // 0.2) are parted by a white transom at 35% of the height: the
+        // panes' tops come in pairs 21 px apart.
+        let (w, h, storey) = (400u32, 440u32, 100u32);
+        let img = image::RgbImage::from_fn(w, h, |x, y| {
+            if y < 40 {
+                return image::Rgb([120, 170, 235]);
+            }
+            let (sx, sy) = (x % 80, (y - 40) % storey);
+            let v = match (sx, sy) {
+                (20..60, 20..80) => {
+                    let frame = !(24..56).contains(&sx) || !(24..76).contains(&sy);
+                    if frame || (41..45).contains(&sy) {
+                        0.95
+                    } else {
+                        0.2
+                    }
+                }
+                _ => 0.75,
+            };
+            image::Rgb([(v * 255.0) as u8; 3])
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 512);
+        let class = super::super::wall::classify(&f);
+        let s = estimate(&f, &class, &[], storey_from_jambs(&f, &class), None);
+        let truth = STOREY_M / storey as f32;
+        assert_eq!(s.source, ScaleSource::StoreyHeight);
+        assert!(
+            (s.metres_per_pixel / truth - 1.0).abs() < 0.1,
+            "{s:?} against {truth}"
+        );
     }
 }
