@@ -210,7 +210,12 @@ mod tests {
                 (a, b) => parted += usize::from(a.is_some() != b.is_some()),
             }
         }
-        assert!(parted <= 4, "{parted} columns");
+        // They may part only where the two photo columns a half-size
+        // column covers disagree on whether there is ground.
+        let split = (0..240)
+            .filter(|&x| site.ground_at(2 * x).is_some() != site.ground_at(2 * x + 1).is_some())
+            .count();
+        assert!(parted <= split, "{parted} columns parted, {split} split");
         let (s, h) = (scaled.shelter.unwrap(), half.shelter.unwrap());
         assert_eq!(s.dimensions(), h.dimensions());
         let off: u64 = s
