@@ -22,6 +22,7 @@ use crate::effects::rain::regrid::GivenRain;
 use crate::effects::region::Region;
 use crate::effects::{Effect, Products, stale, washed_layer};
 use crate::error::{Error, Result};
+use crate::photo::Photo;
 use crate::pipeline::Scene;
 use crate::preset::Preset;
 use crate::progress::Progress;
@@ -133,9 +134,7 @@ pub fn run_frames(
         carry: Some(Box::new(Carry::default())),
         ..Products::default()
     };
-    let mut below = Partial::new(&scene.photo);
-    // The layers in `below`, by address (the run's, shared by the frames).
-    let mut below_layers: Vec<*const Layer> = Vec::new();
+    let mut below = Below::new(&scene.photo);
     for (i, frame) in frames.iter().enumerate() {
         progress.check()?;
         let span = progress.span(share * (i + 1) as f32, share * (i + 2) as f32);
@@ -208,21 +207,11 @@ pub fn run_frames(
         // The shared lowest layers: add to the last frame's when they go on
         // from them (more rainfalls), else start again from the photo.
         let (low, above) = layers.split_at(split);
-        let goes_on = below_layers.len() <= low.len()
-            && below_layers
-                .iter()
-                .zip(low)
-                .all(|(a, b)| std::ptr::eq(*a, *b));
-        if !goes_on {
-            below = Partial::new(&scene.photo);
-            below_layers.clear();
-        }
-        below.add(&low[below_layers.len()..]);
-        below_layers = low.iter().map(|l| *l as *const Layer).collect();
+        let partial = below.advance(&scene.photo, low);
         let frame = Frame {
             stack: &full.stack,
             layers: layers.clone(),
-            below: &below,
+            below: partial,
             above: above.to_vec(),
         };
         each(i, frame)?;
@@ -249,6 +238,41 @@ pub(super) fn check_frame(frame: &Preset, last: &Preset) -> Result<()> {
         });
     }
     Ok(())
+}
+
+/// The photo with a frame's shared lowest layers composited, carried from
+/// frame to frame: when a frame's lowest layers go on from the last one's
+/// (more rainfalls), only the new ones are added; else it starts again from
+/// the photo.
+pub(super) struct Below {
+    partial: Partial,
+    /// The layers in `partial`, by address (the run's, shared by the frames).
+    layers: Vec<*const Layer>,
+}
+
+impl Below {
+    pub(super) fn new(photo: &Arc<Photo>) -> Below {
+        Below {
+            partial: Partial::new(photo),
+            layers: Vec::new(),
+        }
+    }
+
+    /// Brings the composite to `low` (the frame's shared lowest layers).
+    pub(super) fn advance(&mut self, photo: &Arc<Photo>, low: &[&Layer]) -> &Partial {
+        let goes_on = self.layers.len() <= low.len()
+            && self
+                .layers
+                .iter()
+                .zip(low)
+                .all(|(a, b)| std::ptr::eq(*a, *b));
+        if !goes_on {
+            *self = Below::new(photo);
+        }
+        self.partial.add(&low[self.layers.len()..]);
+        self.layers = low.iter().map(|l| *l as *const Layer).collect();
+        &self.partial
+    }
 }
 
 #[cfg(test)]

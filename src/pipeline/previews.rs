@@ -13,7 +13,7 @@ use std::sync::Arc;
 use image::{GrayImage, RgbaImage};
 use rayon::prelude::*;
 
-use super::frames::{Frame, check_frame};
+use super::frames::{Below, Frame, check_frame};
 use super::{Outcome, Prepared, Scene};
 use crate::effects::carry::Carry;
 use crate::effects::rain::regrid::GivenRain;
@@ -23,7 +23,7 @@ use crate::error::{Error, Result};
 use crate::preset::Preset;
 use crate::progress::Progress;
 use crate::shrink::buffer_to_size;
-use crate::stack::{Layer, LayerPixels, Partial, Stack};
+use crate::stack::{Layer, LayerPixels, Stack};
 
 /// Frames from one key frame to the next, at most: a key frame costs its
 /// moss, dust and washed runs at the frame size (about 0.15 s of CPU at
@@ -89,8 +89,7 @@ pub fn run_previews(
         layers: Vec::new(),
         region: small.region.clone(),
     };
-    let mut below = Partial::new(&small.photo);
-    let mut below_layers: Vec<*const Layer> = Vec::new();
+    let mut below = Below::new(&small.photo);
     let n = frames.len();
     for (i, frame) in frames.iter().enumerate() {
         progress.check()?;
@@ -143,23 +142,13 @@ pub fn run_previews(
         // The shared lowest layers: add to the last frame's when they go on
         // from them (more rainfalls), else start again from the photo.
         let (low, above) = layers.split_at(split);
-        let goes_on = below_layers.len() <= low.len()
-            && below_layers
-                .iter()
-                .zip(low)
-                .all(|(a, b)| std::ptr::eq(*a, *b));
-        if !goes_on {
-            below = Partial::new(&small.photo);
-            below_layers.clear();
-        }
-        below.add(&low[below_layers.len()..]);
-        below_layers = low.iter().map(|l| *l as *const Layer).collect();
+        let partial = below.advance(&small.photo, low);
         each(
             i,
             Frame {
                 stack: &stack,
                 layers: layers.clone(),
-                below: &below,
+                below: partial,
                 above: above.to_vec(),
             },
         )?;
