@@ -23,17 +23,6 @@ const GAP_RATIO: f32 = 1.5;
 /// Largest gap, as a share of the common width of the two lines it separates.
 const MAX_GAP_PER_WIDTH: f32 = 0.08;
 
-/// The ledges without the course lines but the lowest of each stack (roof
-/// lines are always kept).
-pub fn drop_courses(ledges: Vec<Ledge>) -> Vec<Ledge> {
-    let course: Vec<bool> = (0..ledges.len()).map(|i| is_course(&ledges, i)).collect();
-    ledges
-        .into_iter()
-        .zip(course)
-        .filter_map(|(l, c)| (!c).then_some(l))
-        .collect()
-}
-
 fn span(l: &Ledge) -> (f32, f32) {
     let (a, b) = (l.polyline[0][0], l.polyline[l.polyline.len() - 1][0]);
     (a.min(b), a.max(b))
@@ -55,7 +44,9 @@ fn y_at(l: &Ledge, x: f32) -> f32 {
     p[p.len() - 1][1]
 }
 
-fn is_course(ledges: &[Ledge], i: usize) -> bool {
+/// True when ledge `i` is a course line but the lowest of its stack (roof
+/// lines never are).
+pub fn is_course(ledges: &[Ledge], i: usize) -> bool {
     let me = &ledges[i];
     if me.kind == LedgeKind::RoofLine || me.polyline.len() < 2 {
         return false;
@@ -106,6 +97,14 @@ fn is_course(ledges: &[Ledge], i: usize) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The ledges that are not course lines, in order.
+    fn drop_courses(ls: Vec<Ledge>) -> Vec<Ledge> {
+        (0..ls.len())
+            .filter(|&i| !is_course(&ls, i))
+            .map(|i| ls[i].clone())
+            .collect()
+    }
 
     fn ledge(kind: LedgeKind, x0: f32, x1: f32, y: f32) -> Ledge {
         Ledge {

@@ -8,7 +8,7 @@
 
 use super::features::{Features, box_mean};
 use super::wall::Class;
-use super::{Ledge, LedgeKind};
+use super::{Ledge, LedgeKind, courses};
 
 /// Edges weaker than this (luma step over two rows, 0..1) are ignored
 /// (0.06 before the storey check below: on CMP 0.045 finds 2% more
@@ -166,21 +166,24 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
     out.sort_by(|a, b| b.confidence.total_cmp(&a.confidence));
     out.truncate(MAX_LEDGES);
     if let Some(storey) = storey {
-        let lone: Vec<bool> = (0..out.len())
-            .map(|i| alone(&out, i, storey, w, h))
-            .collect();
-        let mut k = 0;
-        out.retain(|_| {
-            k += 1;
-            !lone[k - 1]
-        });
+        out = without(out, |ls, i| alone(ls, i, storey, w, h));
     }
     out.sort_by(|a, b| {
         a.polyline[0][1]
             .total_cmp(&b.polyline[0][1])
             .then(a.polyline[0][0].total_cmp(&b.polyline[0][0]))
     });
-    out
+    without(out, courses::is_course)
+}
+
+/// `ledges` without those `drop` flags, each judged against all of them.
+fn without(ledges: Vec<Ledge>, drop: impl Fn(&[Ledge], usize) -> bool) -> Vec<Ledge> {
+    let dropped: Vec<bool> = (0..ledges.len()).map(|i| drop(&ledges, i)).collect();
+    ledges
+        .into_iter()
+        .zip(dropped)
+        .filter_map(|(l, d)| (!d).then_some(l))
+        .collect()
 }
 
 /// True when ledge `i` is short (under [`ALONE_SPAN`] of the width `w`),

@@ -198,7 +198,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
         || {
             let t2 = Instant::now();
             let storey = scale::storey_from_jambs(&f, &classes);
-            let ledges = courses::drop_courses(ledges::detect(&f, &classes, storey));
+            let ledges = ledges::detect(&f, &classes, storey);
             let shelter = shelter::map(&f, &ledges);
             (ledges, shelter, storey, ms(t2))
         },
