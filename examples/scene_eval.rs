@@ -107,6 +107,7 @@ fn labelmefacade(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
             .to_string();
         let lab = grime::io::load_photo(&dir.join("labels").join(format!("{stem}.png")))?;
         let lab = lab.image().to_rgb8();
+        let windows = lab.pixels().map(|p| p.0 == [0, 0, 128]).collect();
         let labels = lab
             .pixels()
             .map(|p| match p.0 {
@@ -123,6 +124,7 @@ fn labelmefacade(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
             width: photo.width(),
             height: photo.height(),
             labels: Some(labels),
+            windows: Some(windows),
             ..Truth::default()
         };
         out.push((stem, photo, truth));
@@ -176,6 +178,7 @@ fn cmp(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
             ledges,
             ledge_like,
             storey_px: eval::storey_from_windows(&windows, h as f32),
+            windows: Some(index.iter().map(|&l| l == 3).collect()),
         };
         let stem = img
             .file_stem()

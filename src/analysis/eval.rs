@@ -58,6 +58,9 @@ pub struct Truth {
     pub ledge_like: Vec<Band>,
     /// Storey height in pixels, where it can be read.
     pub storey_px: Option<f32>,
+    /// Per photo pixel: labelled window (glass and frame), where the data
+    /// labels windows; for the glass measure, not the wall's IoU.
+    pub windows: Option<Vec<bool>>,
 }
 
 /// Sums over a set of photos.
@@ -100,6 +103,12 @@ pub struct Metrics {
     pub scale_n: usize,
     /// Of those, estimates within a factor 1.5.
     pub scale_ok: usize,
+    /// Labelled window pixels.
+    pub window_px: u64,
+    /// Labelled window pixels called glass.
+    pub window_glass: u64,
+    /// Pixels called glass (in photos that label windows).
+    pub glass_px: u64,
     /// Sum of analysis times, ms.
     pub ms: f64,
 }
@@ -156,6 +165,9 @@ impl Metrics {
             } else {
                 inter as f64 / union as f64
             };
+        }
+        if let (Some(windows), Some(a)) = (&t.windows, a) {
+            self.add_glass(a, windows, t.width as usize);
         }
         let tol = 0.015 * t.height as f32;
         let ledges = a.map(|a| a.ledges.as_slice()).unwrap_or(&[]);
@@ -222,6 +234,30 @@ impl Metrics {
         }
     }
 
+    /// Counts glass against the labelled windows (`windows` per photo
+    /// pixel, `w` wide), each photo pixel through its analysis pixel.
+    fn add_glass(&mut self, a: &Analysis, windows: &[bool], w: usize) {
+        let (aw, ah) = (a.analysis_width as usize, a.analysis_height as usize);
+        let h = windows.len() / w.max(1);
+        for (i, &win) in windows.iter().enumerate() {
+            let (x, y) = ((i % w) * aw / w, (i / w) * ah / h.max(1));
+            let glass = a.classes[y * aw + x] == super::Class::Glass;
+            self.window_px += win as u64;
+            self.window_glass += (win && glass) as u64;
+            self.glass_px += glass as u64;
+        }
+    }
+
+    /// Share of labelled window pixels called glass.
+    pub fn glass_recall(&self) -> f64 {
+        self.window_glass as f64 / self.window_px.max(1) as f64
+    }
+
+    /// Share of glass pixels on a labelled window.
+    pub fn glass_precision(&self) -> f64 {
+        self.window_glass as f64 / self.glass_px.max(1) as f64
+    }
+
     /// Mean wall IoU over the labelled photos.
     pub fn mean_iou(&self) -> f64 {
         self.iou_sum / self.labelled.max(1) as f64
@@ -275,6 +311,15 @@ impl Metrics {
                     );
                 }
             }
+        }
+        if self.window_px > 0 {
+            let _ = writeln!(
+                s,
+                "glass recall    {:.3} precision {:.3} (of {} window px)",
+                self.glass_recall(),
+                self.glass_precision(),
+                self.window_px
+            );
         }
         if self.bands > 0 {
             let _ = writeln!(

@@ -150,6 +150,7 @@ pub fn scene(seed: u64, w: u32, h: u32) -> Scene {
         truth: Truth {
             width: w,
             height: h,
+            windows: Some(labels.iter().map(|&l| l == super::eval::IGNORE).collect()),
             labels: Some(labels),
             ledges,
             ledge_like: Vec::new(),

@@ -125,7 +125,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
         }
     });
     ground(f, &steps, &mut class);
-    glass(f, &mut class);
+    super::glass::find(f, &mut class);
     super::plane::settle(f, &side, &mut class);
     super::appearance::relabel(f, &side, &mut class);
     let other = class.iter().filter(|&&c| c != Class::Wall).count();
@@ -442,65 +442,6 @@ fn median3(v: &mut [[f32; 3]]) -> [f32; 3] {
         *o = c[c.len() / 2];
     }
     out
-}
-
-/// Window glass: compact, smooth blobs much darker than the wall, of a
-/// window's size, not touching the photo's edge.
-fn glass(f: &Features, class: &mut [Class]) {
-    let (w, h) = (f.w, f.h);
-    let mut wall_l: Vec<f32> = (0..w * h)
-        .filter(|&i| class[i] == Class::Wall)
-        .map(|i| f.luma[i])
-        .collect();
-    if wall_l.len() < w * h / 10 {
-        return;
-    }
-    let mid = wall_l.len() / 2;
-    let median = *wall_l.select_nth_unstable_by(mid, f32::total_cmp).1;
-    let cand: Vec<bool> = (0..w * h)
-        .map(|i| class[i] == Class::Wall && f.luma[i] < 0.62 * median && f.texture[i] < 0.08)
-        .collect();
-    let mut label = vec![0u32; w * h];
-    let mut next = 0u32;
-    let n = (w * h) as f32;
-    for start in 0..w * h {
-        if !cand[start] || label[start] != 0 {
-            continue;
-        }
-        next += 1;
-        let mut members = vec![start];
-        label[start] = next;
-        let mut k = 0;
-        let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
-        while k < members.len() {
-            let i = members[k];
-            k += 1;
-            let (x, y) = (i % w, i / w);
-            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
-            let mut visit = |j: usize| {
-                if cand[j] && label[j] == 0 {
-                    label[j] = next;
-                    members.push(j);
-                }
-            };
-            neighbours(i, w, h).for_each(&mut visit);
-        }
-        let (bw, bh) = ((x1 - x0 + 1) as f32, (y1 - y0 + 1) as f32);
-        let area = members.len() as f32;
-        let fits = area > 0.0004 * n
-            && area < 0.06 * n
-            && area > 0.45 * bw * bh
-            && (0.2..=8.0).contains(&(bh / bw))
-            && x0 > 0
-            && y0 > 0
-            && x1 + 1 < w
-            && y1 + 1 < h;
-        if fits {
-            for &i in &members {
-                class[i] = Class::Glass;
-            }
-        }
-    }
 }
 
 /// The wall as a soft matte (0..1) at analysis resolution: the hard labels
