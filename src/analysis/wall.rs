@@ -124,6 +124,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
             *c = Class::Vegetation;
         }
     });
+    super::foliage::mark(f, &mut class);
     ground(f, &steps, &mut class);
     glass(f, &mut class);
     super::plane::settle(f, &side, &mut class);

@@ -1,0 +1,116 @@
+//! Foliage by its texture, whatever its colour (trees in shade, autumn
+//! leaves, bare crowns against a white sky). A wall's structure is
+//! straight: courses, frames and jambs put its luma gradients near the
+//! horizontal and the vertical, and a wall with windows has both, so its
+//! orientation is mixed but axis-aligned. Leaves and twigs point every way.
+//! Two statistics of the gradients over a box of a fiftieth of the long
+//! side tell them apart:
+//! - the coherence of the structure tensor J (Bigün and Granlund, "Optimal
+//!   orientation detection of linear symmetry", 1987; Jähne, "Digital
+//!   Image Processing", eq. (13.14)): sqrt((Jxx - Jyy)^2 + 4 Jxy^2) /
+//!   (Jxx + Jyy), low where no orientation dominates;
+//! - the share of the gradient energy that is diagonal (between 15 and 75
+//!   degrees of the axes: |sin 2 theta| > 1/2, i.e. 4 |gx gy| > gx^2 +
+//!   gy^2): 2/3 for isotropic texture, low on a grid of frames, whose
+//!   coherence is low too.
+//!
+//! Where both say "every way", the texture is strong and most of the box
+//! around agrees, a wall pixel is vegetation. Measured on LabelMeFacade
+//! train (pixels the classifier called wall): median coherence 0.25 on
+//! vegetation, 0.48 on walls; median diagonal share 0.64 and 0.44.
+
+use rayon::prelude::*;
+
+use super::features::{Features, box_mean};
+use super::wall::Class;
+
+/// The grid the gradients are summed on is at most this long.
+const GRID: usize = 256;
+
+/// The statistics are taken over a box of the long side over this.
+const BOX: usize = 50;
+
+/// The vote is taken over a box of the long side over this.
+const VOTE_BOX: usize = 33;
+
+/// Foliage's coherence is under this.
+const COHERENCE: f32 = 0.3;
+
+/// Foliage's diagonal share is over this.
+const DIAGONAL: f32 = 0.65;
+
+/// Foliage's mean gradient magnitude (central differences of luma in
+/// 0..1) is over this.
+const STRENGTH: f32 = 0.07;
+
+/// Share of the vote box that must look like foliage.
+const VOTE: f32 = 0.5;
+
+/// Turns wall pixels whose texture is foliage's into vegetation.
+pub fn mark(f: &Features, class: &mut [Class]) {
+    let (w, h) = (f.w, f.h);
+    let k = w.max(h).div_ceil(GRID).max(1);
+    let (gw, gh) = (w.div_ceil(k), h.div_ceil(k));
+    let sums = cell_sums(f, k, gw, gh);
+    let r = (w.max(h) / BOX / k).max(1);
+    let plane = |d: usize| box_mean(&sums.iter().map(|s| s[d]).collect::<Vec<_>>(), gw, gh, r);
+    let (jxx, jyy, jxy, diag, mag) = (plane(0), plane(1), plane(2), plane(3), plane(4));
+    let like: Vec<f32> = (0..gw * gh)
+        .into_par_iter()
+        .map(|c| {
+            let e = jxx[c] + jyy[c];
+            if e <= 1e-9 {
+                return 0.0;
+            }
+            let coherence = ((jxx[c] - jyy[c]).powi(2) + 4.0 * jxy[c].powi(2)).sqrt() / e;
+            (coherence < COHERENCE && diag[c] / e > DIAGONAL && mag[c] > STRENGTH) as u8 as f32
+        })
+        .collect();
+    let vote = box_mean(&like, gw, gh, (w.max(h) / VOTE_BOX / k).max(1));
+    class.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+        let cy = y / k;
+        for (x, c) in row.iter_mut().enumerate() {
+            if *c == Class::Wall && vote[cy * gw + x / k] > VOTE {
+                *c = Class::Vegetation;
+            }
+        }
+    });
+}
+
+/// Per cell of `k` x `k` analysis pixels, the means of gx^2, gy^2, gx gy,
+/// the diagonal part of gx^2 + gy^2 and the gradient magnitude (central
+/// differences of luma).
+fn cell_sums(f: &Features, k: usize, gw: usize, gh: usize) -> Vec<[f32; 5]> {
+    let (w, h) = (f.w, f.h);
+    let l = &f.luma;
+    (0..gh)
+        .into_par_iter()
+        .flat_map_iter(|cy| {
+            let mut row = vec![[0f32; 5]; gw];
+            let mut count = vec![0u32; gw];
+            for y in cy * k..((cy + 1) * k).min(h) {
+                let (up, down) = (y.saturating_sub(1) * w, (y + 1).min(h - 1) * w);
+                for (cx, (s, m)) in row.iter_mut().zip(count.iter_mut()).enumerate() {
+                    for x in cx * k..((cx + 1) * k).min(w) {
+                        let gx = l[y * w + (x + 1).min(w - 1)] - l[y * w + x.saturating_sub(1)];
+                        let gy = l[down + x] - l[up + x];
+                        let e = gx * gx + gy * gy;
+                        s[0] += gx * gx;
+                        s[1] += gy * gy;
+                        s[2] += gx * gy;
+                        if 4.0 * (gx * gy).abs() > e {
+                            s[3] += e;
+                        }
+                        s[4] += e.sqrt();
+                        *m += 1;
+                    }
+                }
+            }
+            for (s, &m) in row.iter_mut().zip(&count) {
+                let m = m.max(1) as f32;
+                s.iter_mut().for_each(|v| *v /= m);
+            }
+            row
+        })
+        .collect()
+}
