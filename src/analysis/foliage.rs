@@ -114,3 +114,76 @@ fn cell_sums(f: &Features, k: usize, gw: usize, gh: usize) -> Vec<[f32; 5]> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::photo::Photo;
+
+    /// A brick wall (courses every 8 pixels, head joints every 16, a grid
+    /// of dark windows) with a brown, colourless crown in its left half.
+    fn wall_with_crown() -> (Features, impl Fn(usize, usize) -> bool) {
+        let (w, h) = (256u32, 256u32);
+        let mut seed = 12345u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32
+        };
+        // Waves at every angle, 3.5 to 6 pixels long: texture that points
+        // every way, antialiased as a photo is.
+        let waves: Vec<[f32; 3]> = (0..48)
+            .map(|_| {
+                let (a, k) = (next() * std::f32::consts::PI, 1.0 + next() * 0.8);
+                [a.cos() * k, a.sin() * k, next() * 6.3]
+            })
+            .collect();
+        let crown = |x: usize, y: usize| {
+            let (dx, dy) = (x as f32 - 65.0, y as f32 - 125.0);
+            dx * dx + dy * dy < 50.0 * 50.0
+        };
+        let img = image::RgbImage::from_fn(w, h, |x, y| {
+            let (xf, yf) = (x as f32, y as f32);
+            if crown(x as usize, y as usize) {
+                let s: f32 = waves
+                    .iter()
+                    .map(|v| (v[0] * xf + v[1] * yf + v[2]).sin())
+                    .sum();
+                let l = (110.0 + 12.0 * s).clamp(20.0, 230.0);
+                return image::Rgb([l as u8 + 20, l as u8 + 5, l as u8 - 10]);
+            }
+            let window = x % 64 >= 24 && x % 64 < 44 && y % 64 >= 16 && y % 64 < 48;
+            let joint = y % 8 == 0 || (x + (y / 8 % 2) * 8) % 16 == 0;
+            image::Rgb(if window {
+                [40, 45, 55]
+            } else if joint {
+                [150, 140, 130]
+            } else {
+                [170, 90, 70]
+            })
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 256);
+        (f, crown)
+    }
+
+    #[test]
+    fn a_colourless_crown_on_a_brick_wall_is_vegetation() {
+        let (f, crown) = wall_with_crown();
+        let mut class = vec![Class::Wall; f.w * f.h];
+        mark(&f, &mut class);
+        let (mut leafy, mut n_crown, mut wall_lost, mut n_wall) = (0, 0, 0, 0);
+        for (i, &c) in class.iter().enumerate() {
+            let (x, y) = (i % f.w, i / f.w);
+            if crown(x, y) {
+                n_crown += 1;
+                leafy += (c == Class::Vegetation) as usize;
+            } else if x > 130 {
+                n_wall += 1;
+                wall_lost += (c != Class::Wall) as usize;
+            }
+        }
+        assert!(leafy * 2 > n_crown, "{leafy} of {n_crown} crown pixels");
+        assert_eq!(wall_lost, 0, "{wall_lost} of {n_wall} brick pixels");
+    }
+}
