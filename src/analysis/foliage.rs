@@ -46,35 +46,60 @@ const STRENGTH: f32 = 0.07;
 /// Share of the vote box that must look like foliage.
 const VOTE: f32 = 0.5;
 
-/// Turns wall pixels whose texture is foliage's into vegetation.
-pub fn mark(f: &Features, class: &mut [Class]) {
-    let (w, h) = (f.w, f.h);
-    let k = w.max(h).div_ceil(GRID).max(1);
-    let (gw, gh) = (w.div_ceil(k), h.div_ceil(k));
-    let sums = cell_sums(f, k, gw, gh);
-    let r = (w.max(h) / BOX / k).max(1);
-    let plane = |d: usize| box_mean(&sums.iter().map(|s| s[d]).collect::<Vec<_>>(), gw, gh, r);
-    let (jxx, jyy, jxy, diag, mag) = (plane(0), plane(1), plane(2), plane(3), plane(4));
-    let like: Vec<f32> = (0..gw * gh)
-        .into_par_iter()
-        .map(|c| {
-            let e = jxx[c] + jyy[c];
-            if e <= 1e-9 {
-                return 0.0;
-            }
-            let coherence = ((jxx[c] - jyy[c]).powi(2) + 4.0 * jxy[c].powi(2)).sqrt() / e;
-            (coherence < COHERENCE && diag[c] / e > DIAGONAL && mag[c] > STRENGTH) as u8 as f32
-        })
-        .collect();
-    let vote = box_mean(&like, gw, gh, (w.max(h) / VOTE_BOX / k).max(1));
-    class.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-        let cy = y / k;
-        for (x, c) in row.iter_mut().enumerate() {
-            if *c == Class::Wall && vote[cy * gw + x / k] > VOTE {
-                *c = Class::Vegetation;
-            }
+/// Where the texture is foliage's, on a grid of cells of `k` x `k`
+/// analysis pixels. Found from the photo alone, so it is found beside the
+/// sky's fills; [`Foliage::mark`] then applies it to the wall.
+pub struct Foliage {
+    /// Per cell: foliage voted.
+    leafy: Vec<bool>,
+    /// Analysis pixels per cell, along each side.
+    k: usize,
+    /// Grid width.
+    gw: usize,
+}
+
+impl Foliage {
+    /// Sums the photo's gradients into cells and votes.
+    pub fn new(f: &Features) -> Foliage {
+        let (w, h) = (f.w, f.h);
+        let k = w.max(h).div_ceil(GRID).max(1);
+        let (gw, gh) = (w.div_ceil(k), h.div_ceil(k));
+        let sums = cell_sums(f, k, gw, gh);
+        let r = (w.max(h) / BOX / k).max(1);
+        let plane = |d: usize| box_mean(&sums.iter().map(|s| s[d]).collect::<Vec<_>>(), gw, gh, r);
+        let (jxx, jyy, jxy, diag, mag) = (plane(0), plane(1), plane(2), plane(3), plane(4));
+        let like: Vec<f32> = (0..gw * gh)
+            .into_par_iter()
+            .map(|c| {
+                let e = jxx[c] + jyy[c];
+                if e <= 1e-9 {
+                    return 0.0;
+                }
+                let coherence = ((jxx[c] - jyy[c]).powi(2) + 4.0 * jxy[c].powi(2)).sqrt() / e;
+                (coherence < COHERENCE && diag[c] / e > DIAGONAL && mag[c] > STRENGTH) as u8 as f32
+            })
+            .collect();
+        let vote = box_mean(&like, gw, gh, (w.max(h) / VOTE_BOX / k).max(1));
+        Foliage {
+            leafy: vote.iter().map(|&v| v > VOTE).collect(),
+            k,
+            gw,
         }
-    });
+    }
+
+    /// Turns wall pixels (rows of `w`) whose texture is foliage's into
+    /// vegetation.
+    pub fn mark(&self, w: usize, class: &mut [Class]) {
+        let k = self.k;
+        class.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+            let cells = &self.leafy[(y / k) * self.gw..];
+            for (x, c) in row.iter_mut().enumerate() {
+                if *c == Class::Wall && cells[x / k] {
+                    *c = Class::Vegetation;
+                }
+            }
+        });
+    }
 }
 
 /// Per cell of `k` x `k` analysis pixels, the means of gx^2, gy^2, gx gy,
@@ -171,7 +196,7 @@ mod tests {
     fn a_colourless_crown_on_a_brick_wall_is_vegetation() {
         let (f, crown) = wall_with_crown();
         let mut class = vec![Class::Wall; f.w * f.h];
-        mark(&f, &mut class);
+        Foliage::new(&f).mark(f.w, &mut class);
         let (mut leafy, mut n_crown, mut wall_lost, mut n_wall) = (0, 0, 0, 0);
         for (i, &c) in class.iter().enumerate() {
             let (x, y) = (i % f.w, i / f.w);
