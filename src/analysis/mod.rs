@@ -21,6 +21,7 @@ mod appearance;
 mod courses;
 pub mod eval;
 mod features;
+mod foliage;
 mod glass;
 mod ledges;
 mod overlay;

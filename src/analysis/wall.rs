@@ -77,10 +77,10 @@ pub fn classify(f: &Features) -> Vec<Class> {
     let (w, h) = (f.w, f.h);
     let n = w * h;
     let mut class = vec![Class::Wall; n];
-    // The sky's fills run on one thread: the paving joints and the
-    // gradients' directions go beside them.
-    let (sky, (steps, side)) = rayon::join(
-        || sky(f),
+    // The sky's fills run on one thread: the paving joints, the
+    // gradients' directions and the foliage's texture go beside them.
+    let ((sky, leaves), (steps, side)) = rayon::join(
+        || rayon::join(|| sky(f), || super::foliage::Foliage::new(f)),
         || {
             (
                 unjoint(f, (h as f32 * JOINT_BAND) as usize),
@@ -124,6 +124,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
             *c = Class::Vegetation;
         }
     });
+    leaves.mark(w, &mut class);
     ground(f, &steps, &mut class);
     super::glass::find(f, &mut class);
     super::plane::settle(f, &side, &mut class);
