@@ -21,6 +21,7 @@ mod appearance;
 mod courses;
 pub mod eval;
 mod features;
+mod ground;
 mod ledges;
 mod overlay;
 mod plane;
