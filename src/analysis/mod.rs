@@ -23,6 +23,7 @@ pub mod eval;
 mod features;
 mod foliage;
 mod glass;
+mod ground;
 mod ledges;
 mod overlay;
 mod plane;

@@ -83,7 +83,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
         || rayon::join(|| sky(f), || super::foliage::Foliage::new(f)),
         || {
             (
-                unjoint(f, (h as f32 * JOINT_BAND) as usize),
+                super::ground::unjoint(f, (h as f32 * super::ground::JOINT_BAND) as usize),
                 super::plane::Sideways::new(f),
             )
         },
@@ -125,7 +125,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
         }
     });
     leaves.mark(w, &mut class);
-    ground(f, &steps, &mut class);
+    super::ground::ground(f, &steps, &side, &mut class);
     super::glass::find(f, &mut class);
     super::plane::settle(f, &side, &mut class);
     super::appearance::relabel(f, &side, &mut class);
@@ -262,188 +262,11 @@ fn grow(
     seen
 }
 
-/// Ground: connected to the bottom edge, below 45% of the height, smooth,
-/// not strongly coloured. Each wide stretch of such pixels on the bottom row
-/// (a road, a pavement: not the foot of a brick) grows with its own colour
-/// model, and the fill does not cross a colour step (a kerb, the foot of
-/// the wall), except the thin joints of paving in the bottom fifth. A stretch's ground is refused when it looks like what lies
-/// above it, and all ground when it nearly everywhere stops at the 45%
-/// limit (a close-up's texture, a facade down to the photo's edge, reach
-/// the bottom too).
-fn ground(f: &Features, steps: &[[f32; 3]], class: &mut [Class]) {
-    let (w, h) = (f.w, f.h);
-    let r = (w.max(h) / 150).max(1);
-    let smooth: Vec<Vec<f32>> = f.rgb.iter().map(|p| box_mean(p, w, h, r)).collect();
-    let at = |i: usize| [smooth[0][i], smooth[1][i], smooth[2][i]];
-    let top = h * 45 / 100;
-    let basic: Vec<bool> = (0..w * h)
-        .map(|i| {
-            let c = at(i);
-            let (mx, mn) = (c[0].max(c[1]).max(c[2]), c[0].min(c[1]).min(c[2]));
-            let sat = (mx - mn) / mx.max(1e-3);
-            i / w >= top
-                && class[i] == Class::Wall
-                && f.texture[i] < GROUND_TEXTURE
-                && sat < GROUND_SATURATION
-        })
-        .collect();
-    let l1 = |a: [f32; 3], b: [f32; 3]| (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>();
-    let row = (h - 1) * w;
-    let mut g = vec![false; w * h];
-    let mut x = 0;
-    while x < w {
-        let start = x;
-        // A stretch ends where ground stops or the colour steps (road to
-        // pavement, not a paving joint).
-        while x < w
-            && basic[row + x]
-            && (x == start || l1(steps[row + x], steps[row + x - 1]) < GROUND_STEP)
-        {
-            x += 1;
-        }
-        if x - start >= w / 8 {
-            let mut stretch: Vec<[f32; 3]> = (start..x).map(|c| at(row + c)).collect();
-            let model = median3(&mut stretch);
-            let cand: Vec<bool> = (0..w * h)
-                .map(|i| basic[i] && l1(at(i), model) < GROUND_COLOUR)
-                .collect();
-            let seeds = (row + start..row + x).collect();
-            let part = flood(&cand, w, h, seeds, |i, j| {
-                l1(steps[i], steps[j]) < GROUND_STEP
-            });
-            if !like_above(&part, &at, w, h, top) {
-                g.iter_mut().zip(&part).for_each(|(a, &b)| *a |= b);
-            }
-        }
-        if x == start {
-            x += 1;
-        }
-    }
-    let (mut at_cap, mut cols) = (0, 0);
-    for x in 0..w {
-        if let Some(y) = (top..h).find(|&y| g[y * w + x]) {
-            cols += 1;
-            at_cap += (y == top) as usize;
-        }
-    }
-    if cols == 0 || at_cap * 10 > cols * 9 {
-        return;
-    }
-    for (c, &is) in class.iter_mut().zip(&g) {
-        if is {
-            *c = Class::Ground;
-        }
-    }
-}
-
-/// True when what lies above the top of `part` (a twelfth of the height
-/// up) looks like the part itself (median colours), or when two thirds of
-/// its columns run up to the `top` limit: a brick of a close-up, the foot of a
-/// facade, not a road.
-fn like_above(
-    part: &[bool],
-    at: &dyn Fn(usize) -> [f32; 3],
-    w: usize,
-    h: usize,
-    top: usize,
-) -> bool {
-    let (mut above, mut inside, mut at_cap) = (Vec::new(), Vec::new(), 0);
-    for x in 0..w {
-        if let Some(y) = (0..h).find(|&y| part[y * w + x]) {
-            at_cap += (y == top) as usize;
-            above.push(at(y.saturating_sub(h / 12) * w + x));
-            inside.push(at((y + h / 24).min(h - 1) * w + x));
-        }
-    }
-    if above.is_empty() {
-        return false;
-    }
-    if at_cap * 3 > above.len() * 2 {
-        return true;
-    }
-    let (a, b) = (median3(&mut above), median3(&mut inside));
-    (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>() < LIKE_ABOVE
-}
-
-/// The colour of each pixel, with thin lines (paving joints, up to 2
-/// analysis pixels wide) removed from row `from` down: a 5-tap median along
-/// rows, then along columns. Above `from` the photo's own colour.
-fn unjoint(f: &Features, from: usize) -> Vec<[f32; 3]> {
-    let (w, h) = (f.w, f.h);
-    let mut out: Vec<[f32; 3]> = (0..w * h).map(|i| f.rgb_at(i)).collect();
-    let from = from.min(h);
-    // Row medians from two rows above `from`, for the column medians below it.
-    let y0 = from.saturating_sub(2);
-    for c in 0..3 {
-        let p = &f.rgb[c];
-        let mut rows = vec![0f32; (h - y0) * w];
-        rows.par_chunks_mut(w).enumerate().for_each(|(k, row)| {
-            let line = &p[(y0 + k) * w..(y0 + k + 1) * w];
-            for (x, o) in row.iter_mut().enumerate() {
-                *o = median5(std::array::from_fn(|d| {
-                    line[(x + d).saturating_sub(2).min(w - 1)]
-                }));
-            }
-        });
-        out[from * w..]
-            .par_chunks_mut(w)
-            .enumerate()
-            .for_each(|(k, row)| {
-                let y = from + k;
-                for (x, o) in row.iter_mut().enumerate() {
-                    o[c] = median5(std::array::from_fn(|d| {
-                        rows[((y + d).saturating_sub(2).min(h - 1) - y0) * w + x]
-                    }));
-                }
-            });
-    }
-    out
-}
-
-/// Median of five by min and max (colours in 0..1, no NaN): the smaller of
-/// the two pairs' minima and the larger of their maxima are not the median;
-/// it is the median of the three left.
-fn median5(v: [f32; 5]) -> f32 {
-    let (lo, hi) = (
-        v[0].min(v[1]).max(v[2].min(v[3])),
-        v[0].max(v[1]).min(v[2].max(v[3])),
-    );
-    let (x, y) = (lo.min(hi), lo.max(hi));
-    x.max(y.min(v[4]))
-}
-
-/// Paving joints are crossed in this bottom band (from this share of the
-/// height down); above it a thin dark line may be the foot of the wall.
-pub(super) const JOINT_BAND: f32 = 0.8;
-/// A stretch's ground is refused when the colour a twelfth of the height
-/// above its top is this close (L1 of medians) to its own.
-const LIKE_ABOVE: f32 = 0.03;
 /// A pixel that is not sky with more than this share of sky within 1% of
 /// the photo's size around it is a bare branch (vegetation).
 const BRANCHES: f32 = 0.45;
 /// Bare branches are looked for in photos at least this long (pixels).
 const BRANCHES_MIN_SIDE: usize = 200;
-
-/// Ground is less saturated than this.
-const GROUND_SATURATION: f32 = 0.45;
-/// Ground lies within this colour distance (L1, 0..3) of its stretch of
-/// the bottom row.
-const GROUND_COLOUR: f32 = 0.5;
-/// The ground fill stops at a colour step this large between neighbours.
-const GROUND_STEP: f32 = 0.2;
-
-/// Ground this textured (mean luma gradient) or more is not ground.
-const GROUND_TEXTURE: f32 = 0.15;
-
-fn median3(v: &mut [[f32; 3]]) -> [f32; 3] {
-    let mut out = [0.0; 3];
-    for (k, o) in out.iter_mut().enumerate() {
-        let mut c: Vec<f32> = v.iter().map(|p| p[k]).collect();
-        c.sort_by(f32::total_cmp);
-        *o = c[c.len() / 2];
-    }
-    out
-}
 
 /// The wall as a soft matte (0..1) at analysis resolution: the hard labels
 /// through a guided filter on luma, He et al. eqs. (7)-(8).
@@ -521,65 +344,6 @@ mod tests {
     use crate::photo::Photo;
 
     #[test]
-    fn a_road_and_a_pavement_of_other_greys_are_both_ground() {
-        // An orange wall over a dark road; a pale pavement along the
-        // bottom-left. Each stretch of the bottom row is its own ground.
-        let (w, h) = (200u32, 160u32);
-        let img = image::RgbImage::from_fn(w, h, |x, y| {
-            image::Rgb(if y < h * 6 / 10 {
-                [204, 128, 76]
-            } else if y >= h * 9 / 10 && x < w / 2 {
-                [166; 3]
-            } else {
-                [90; 3]
-            })
-        });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 200);
-        let class = classify(&f);
-        let below = (h as usize * 6 / 10 + 3) * w as usize;
-        let ground = class[below..]
-            .iter()
-            .filter(|&&c| c == Class::Ground)
-            .count();
-        assert!(
-            ground as f32 > 0.9 * (class.len() - below) as f32,
-            "{ground}"
-        );
-        assert!(class[..w as usize * 80].iter().all(|&c| c == Class::Wall));
-    }
-
-    /// An orange wall over grey paving stones 16 pixels square, laid with
-    /// darker joints 2 pixels wide (a colour step of 0.35, beyond
-    /// `GROUND_STEP`), in the bottom fifth.
-    fn paved(joint: u8) -> Vec<Class> {
-        let (w, h) = (240u32, 200u32);
-        let img = image::RgbImage::from_fn(w, h, |x, y| {
-            image::Rgb(if y < 164 {
-                [204, 128, 76]
-            } else if x % 16 < 2 || (y - 164) % 16 < 2 {
-                [joint; 3]
-            } else {
-                [150; 3]
-            })
-        });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 240);
-        classify(&f)
-    }
-
-    #[test]
-    fn the_ground_fill_crosses_paving_joints() {
-        let class = paved(120);
-        let paving = &class[170 * 240..];
-        let ground = paving.iter().filter(|&&c| c == Class::Ground).count();
-        assert!(
-            ground * 10 > paving.len() * 9,
-            "{ground} of {}",
-            paving.len()
-        );
-        assert!(class[..160 * 240].iter().all(|&c| c == Class::Wall));
-    }
-
-    #[test]
     fn bare_branches_against_the_sky_are_not_wall() {
         // Blue sky over a wall; in the sky, dark brown twigs 1 pixel wide,
         // 4 apart.
@@ -630,20 +394,6 @@ mod tests {
         let sky = beyond.iter().filter(|&&c| c == Class::Sky).count();
         assert!(sky * 10 > beyond.len() * 9, "{sky} of {}", beyond.len());
         assert!(class[150 * 600..].iter().all(|&c| c == Class::Wall));
-    }
-
-    #[test]
-    fn median5_is_the_middle_of_the_sorted_five() {
-        let mut seed = 7u32;
-        for _ in 0..2000 {
-            let v: [f32; 5] = std::array::from_fn(|_| {
-                seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-                (seed >> 24) as f32 / 16.0
-            });
-            let mut s = v;
-            s.sort_by(f32::total_cmp);
-            assert_eq!(median5(v), s[2], "{v:?}");
-        }
     }
 
     #[test]
