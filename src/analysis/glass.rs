@@ -90,57 +90,79 @@ pub fn find(f: &Features, class: &mut [Class]) {
     }
 }
 
-/// Mean luma of the pixels of `mask` (0/1) within `r` of each pixel;
-/// infinite where there are none (nothing is darker than that).
+/// Mean luma of the pixels of `mask` (0/1) within about `r` of each
+/// pixel; infinite where there are none (nothing is darker than that).
+/// Summed over blocks of a quarter of `r` (the mean over so wide a box
+/// changes slowly), each pixel taking its block's value.
 fn around(f: &Features, mask: &[f32], r: usize) -> Vec<f32> {
-    let masked: Vec<f32> = f.luma.par_iter().zip(mask).map(|(l, m)| l * m).collect();
+    let (w, h) = (f.w, f.h);
+    let s = (r / 4).max(1);
+    let (cw, ch) = (w.div_ceil(s), h.div_ceil(s));
+    let mut sums = vec![[0f32; 2]; cw * ch];
+    sums.par_chunks_mut(cw).enumerate().for_each(|(cy, row)| {
+        for y in cy * s..((cy + 1) * s).min(h) {
+            for x in 0..w {
+                let (i, m) = (y * w + x, mask[y * w + x]);
+                let acc = &mut row[x / s];
+                acc[0] += f.luma[i] * m;
+                acc[1] += m;
+            }
+        }
+    });
+    let plane = |k: usize| sums.iter().map(|v| v[k]).collect::<Vec<f32>>();
     let (sum, count) = rayon::join(
-        || box_mean(&masked, f.w, f.h, r),
-        || box_mean(mask, f.w, f.h, r),
+        || box_mean(&plane(0), cw, ch, r / s),
+        || box_mean(&plane(1), cw, ch, r / s),
     );
-    sum.par_iter()
-        .zip(&count)
-        .map(|(s, &c)| if c > 0.0 { s / c } else { f32::INFINITY })
+    (0..w * h)
+        .into_par_iter()
+        .map(|i| {
+            let c = (i / w / s) * cw + (i % w) / s;
+            if count[c] > 0.0 {
+                sum[c] / count[c]
+            } else {
+                f32::INFINITY
+            }
+        })
         .collect()
 }
 
 /// Morphological closing of `mask` by a box `rx` across and `ry` up and
 /// down: a dilation, then an erosion (the dilation of the complement).
 fn close(mask: &[bool], w: usize, h: usize, rx: usize, ry: usize) -> Vec<bool> {
-    let dilate = |m: &[bool]| spread(&spread(m, w, h, rx, true), w, h, ry, false);
-    let holes: Vec<bool> = dilate(mask).iter().map(|&v| !v).collect();
-    dilate(&holes).iter().map(|&v| !v).collect()
+    let dilate = |m: &[bool]| spread_cols(&spread_rows(m, w, rx), w, ry);
+    let holes: Vec<bool> = dilate(mask).par_iter().map(|&v| !v).collect();
+    dilate(&holes).par_iter().map(|&v| !v).collect()
 }
 
-/// Sets each pixel within `r` of a set pixel along its row
-/// (`along_rows`) or along its column; `w` x `h` is the mask's size.
-fn spread(mask: &[bool], w: usize, h: usize, r: usize, along_rows: bool) -> Vec<bool> {
-    let (len, lines) = if along_rows { (w, h) } else { (h, w) };
-    let at = |line: usize, k: usize| {
-        if along_rows {
-            line * w + k
-        } else {
-            k * w + line
-        }
-    };
-    let spread: Vec<Vec<bool>> = (0..lines)
-        .into_par_iter()
-        .map(|line| {
-            let mut count = vec![0u32; len + 1];
-            for k in 0..len {
-                count[k + 1] = count[k] + mask[at(line, k)] as u32;
-            }
-            (0..len)
-                .map(|k| count[(k + r + 1).min(len)] > count[k.saturating_sub(r)])
-                .collect()
-        })
-        .collect();
+/// Sets each pixel within `r` of a set pixel of its row (`w` wide).
+fn spread_rows(mask: &[bool], w: usize, r: usize) -> Vec<bool> {
     let mut out = vec![false; mask.len()];
-    for (line, v) in spread.iter().enumerate() {
-        for (k, &b) in v.iter().enumerate() {
-            out[at(line, k)] = b;
+    out.par_chunks_mut(w)
+        .zip(mask.par_chunks(w))
+        .for_each(|(out, row)| {
+            let mut count = vec![0u32; w + 1];
+            for (x, &v) in row.iter().enumerate() {
+                count[x + 1] = count[x] + v as u32;
+            }
+            for (x, o) in out.iter_mut().enumerate() {
+                *o = count[(x + r + 1).min(w)] > count[x.saturating_sub(r)];
+            }
+        });
+    out
+}
+
+/// Sets each pixel within `r` rows of a set pixel of its column (`w` wide).
+fn spread_cols(mask: &[bool], w: usize, r: usize) -> Vec<bool> {
+    let h = mask.len() / w.max(1);
+    let mut out = vec![false; mask.len()];
+    out.par_chunks_mut(w).enumerate().for_each(|(y, out)| {
+        for yy in y.saturating_sub(r)..(y + r + 1).min(h) {
+            for (o, &v) in out.iter_mut().zip(&mask[yy * w..(yy + 1) * w]) {
+                *o |= v;
+            }
         }
-    }
+    });
     out
 }
 
