@@ -73,7 +73,7 @@ pub fn find(f: &Features, class: &mut [Class]) {
     // The bars, and the textured margin the smoothness leaves on each side.
     let bars = ((w.max(h) as f32 * BARS).round() as usize).max(1);
     let margin = texture_radius(w, h) + 1;
-    let closed = close(&dark, w, h, bars + margin, TRANSOMS);
+    let closed = close(&dark, w, bars + margin, TRANSOMS);
     let cand: Vec<bool> = closed
         .iter()
         .zip(class.iter())
@@ -129,7 +129,7 @@ fn around(f: &Features, mask: &[f32], r: usize) -> Vec<f32> {
 
 /// Morphological closing of `mask` by a box `rx` across and `ry` up and
 /// down: a dilation, then an erosion (the dilation of the complement).
-fn close(mask: &[bool], w: usize, h: usize, rx: usize, ry: usize) -> Vec<bool> {
+fn close(mask: &[bool], w: usize, rx: usize, ry: usize) -> Vec<bool> {
     let dilate = |m: &[bool]| spread_cols(&spread_rows(m, w, rx), w, ry);
     let holes: Vec<bool> = dilate(mask).par_iter().map(|&v| !v).collect();
     dilate(&holes).par_iter().map(|&v| !v).collect()
