@@ -49,13 +49,13 @@ const ASPECT: (f32, f32) = (0.2, 8.0);
 pub fn find(f: &Features, class: &mut [Class]) {
     let (w, h) = (f.w, f.h);
     let n = w * h;
+    if class.par_iter().filter(|&&c| c == Class::Wall).count() < n / 10 {
+        return;
+    }
     let wall: Vec<f32> = class
         .par_iter()
         .map(|&c| (c == Class::Wall) as u8 as f32)
         .collect();
-    if wall.iter().sum::<f32>() < n as f32 / 10.0 {
-        return;
-    }
     // The wall's luma around each pixel, the darks left out (the windows
     // would darken their own surroundings): the mean over the wall, then
     // again over the wall not darker than that mean allows.
@@ -75,8 +75,8 @@ pub fn find(f: &Features, class: &mut [Class]) {
     let margin = texture_radius(w, h) + 1;
     let closed = close(&dark, w, bars + margin, TRANSOMS);
     let cand: Vec<bool> = closed
-        .iter()
-        .zip(class.iter())
+        .par_iter()
+        .zip(class.par_iter())
         .map(|(&c, &k)| c && k == Class::Wall)
         .collect();
     for members in components(&cand, w, h) {
@@ -101,11 +101,12 @@ fn around(f: &Features, mask: &[f32], r: usize) -> Vec<f32> {
     let mut sums = vec![[0f32; 2]; cw * ch];
     sums.par_chunks_mut(cw).enumerate().for_each(|(cy, row)| {
         for y in cy * s..((cy + 1) * s).min(h) {
-            for x in 0..w {
-                let (i, m) = (y * w + x, mask[y * w + x]);
-                let acc = &mut row[x / s];
-                acc[0] += f.luma[i] * m;
-                acc[1] += m;
+            let (luma, mask) = (&f.luma[y * w..(y + 1) * w], &mask[y * w..(y + 1) * w]);
+            for (acc, (l, m)) in row.iter_mut().zip(luma.chunks(s).zip(mask.chunks(s))) {
+                for (l, m) in l.iter().zip(m) {
+                    acc[0] += l * m;
+                    acc[1] += m;
+                }
             }
         }
     });
@@ -114,17 +115,19 @@ fn around(f: &Features, mask: &[f32], r: usize) -> Vec<f32> {
         || box_mean(&plane(0), cw, ch, r / s),
         || box_mean(&plane(1), cw, ch, r / s),
     );
-    (0..w * h)
-        .into_par_iter()
-        .map(|i| {
-            let c = (i / w / s) * cw + (i % w) / s;
-            if count[c] > 0.0 {
-                sum[c] / count[c]
+    let mut out = vec![0f32; w * h];
+    out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+        let c0 = y / s * cw;
+        for (c, px) in row.chunks_mut(s).enumerate() {
+            let (sum, count) = (sum[c0 + c], count[c0 + c]);
+            px.fill(if count > 0.0 {
+                sum / count
             } else {
                 f32::INFINITY
-            }
-        })
-        .collect()
+            });
+        }
+    });
+    out
 }
 
 /// Morphological closing of `mask` by a box `rx` across and `ry` up and

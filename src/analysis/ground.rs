@@ -28,6 +28,7 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
     let at = |i: usize| [smooth[0][i], smooth[1][i], smooth[2][i]];
     let top = h * 45 / 100;
     let basic: Vec<bool> = (0..w * h)
+        .into_par_iter()
         .map(|i| {
             let c = at(i);
             let (mx, mn) = (c[0].max(c[1]).max(c[2]), c[0].min(c[1]).min(c[2]));
@@ -57,6 +58,7 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
             let mut stretch: Vec<[f32; 3]> = (start..x).map(|c| at(row + c)).collect();
             let model = median3(&mut stretch);
             let cand: Vec<bool> = (0..w * h)
+                .into_par_iter()
                 .map(|i| basic[i] && l1(at(i), model) < GROUND_COLOUR)
                 .collect();
             let seeds = (row + start..row + x).collect();
