@@ -133,10 +133,17 @@ pub(super) fn unjoint(f: &Features, from: usize) -> Vec<[f32; 3]> {
         let mut rows = vec![0f32; (h - y0) * w];
         rows.par_chunks_mut(w).enumerate().for_each(|(k, row)| {
             let line = &p[(y0 + k) * w..(y0 + k + 1) * w];
-            for (x, o) in row.iter_mut().enumerate() {
-                *o = median5(std::array::from_fn(|d| {
+            let tap = |x: usize| {
+                median5(std::array::from_fn(|d| {
                     line[(x + d).saturating_sub(2).min(w - 1)]
-                }));
+                }))
+            };
+            // Inside the row the five taps are a window; at the ends, clamped.
+            for (o, v) in row.iter_mut().skip(2).zip(line.windows(5)) {
+                *o = median5([v[0], v[1], v[2], v[3], v[4]]);
+            }
+            for x in (0..2.min(w)).chain(w.saturating_sub(2).max(2)..w) {
+                row[x] = tap(x);
             }
         });
         out[from * w..]
@@ -144,10 +151,14 @@ pub(super) fn unjoint(f: &Features, from: usize) -> Vec<[f32; 3]> {
             .enumerate()
             .for_each(|(k, row)| {
                 let y = from + k;
-                for (x, o) in row.iter_mut().enumerate() {
-                    o[c] = median5(std::array::from_fn(|d| {
-                        rows[((y + d).saturating_sub(2).min(h - 1) - y0) * w + x]
-                    }));
+                let tap = |d: usize| {
+                    let r = (y + d).saturating_sub(2).min(h - 1) - y0;
+                    &rows[r * w..(r + 1) * w]
+                };
+                let taps = (tap(0).iter().zip(tap(1)), tap(2).iter().zip(tap(3)));
+                let taps = taps.0.zip(taps.1).zip(tap(4));
+                for (o, (((&a, &b), (&m, &d)), &e)) in row.iter_mut().zip(taps) {
+                    o[c] = median5([a, b, m, d, e]);
                 }
             });
     }

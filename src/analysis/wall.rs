@@ -307,25 +307,28 @@ pub fn refine(f: &Features, class: &[Class]) -> Vec<f32> {
 /// The matte at the photo's size (bilinear).
 pub fn upsample(small: &[f32], f: &Features, pw: u32, ph: u32) -> GrayImage {
     let (w, h) = (f.w, f.h);
-    let mut out = vec![0u8; pw as usize * ph as usize];
     let xs: Vec<(usize, usize, f32)> = (0..pw as usize)
         .map(|x| tap((x as f32 + 0.5) / f.sx - 0.5, w))
         .collect();
+    // Each analysis row widened to the photo's width once, in 0..255;
+    // then each photo row is a blend of two wide rows (a loop the compiler
+    // vectorises, no lookups per photo pixel).
+    let wide: Vec<Vec<f32>> = small
+        .par_chunks(w)
+        .map(|row| {
+            xs.iter()
+                .map(|&(x0, x1, tx)| (row[x0] + (row[x1] - row[x0]) * tx) * 255.0)
+                .collect()
+        })
+        .collect();
+    let mut out = vec![0u8; pw as usize * ph as usize];
     out.par_chunks_mut(pw as usize)
         .enumerate()
         .for_each(|(y, row)| {
             let (y0, y1, ty) = tap((y as f32 + 0.5) / f.sy - 0.5, h);
-            let (r0, r1) = (&small[y0 * w..(y0 + 1) * w], &small[y1 * w..(y1 + 1) * w]);
-            // Vertically first, once per analysis column, in 0..255.
-            let v: Vec<f32> = r0
-                .iter()
-                .zip(r1)
-                .map(|(a, b)| (a + (b - a) * ty) * 255.0)
-                .collect();
-            for (o, &(x0, x1, tx)) in row.iter_mut().zip(&xs) {
-                let a = v[x0];
+            for (o, (&a, &b)) in row.iter_mut().zip(wide[y0].iter().zip(&wide[y1])) {
                 // The matte is in 0..1, so +0.5 then truncation rounds.
-                *o = (a + (v[x1] - a) * tx + 0.5) as u8;
+                *o = (a + (b - a) * ty + 0.5) as u8;
             }
         });
     GrayImage::from_raw(pw, ph, out).expect("buffer has the photo's size")
