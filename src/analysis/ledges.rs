@@ -173,7 +173,7 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
             .total_cmp(&b.polyline[0][1])
             .then(a.polyline[0][0].total_cmp(&b.polyline[0][0]))
     });
-    without(out, courses::is_course)
+    without(out, |ls, i| courses::is_course(ls, i, h as f32))
 }
 
 /// `ledges` without those `drop` flags, each judged against all of them.
