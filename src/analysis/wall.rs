@@ -181,11 +181,22 @@ fn sky(f: &Features) -> Vec<bool> {
         Some(more) => grow(core, &sky_cand, w, h, more, smooth_step),
         None => core,
     };
-    let behind = behind_branches(f, &core, &sky_colour);
     // Then up to the roof edge, where the texture window already sees the
-    // roof: flooding on from the core's rim only (the core is all seen).
-    let rim = rim(&core, w, h);
-    let mut sky = grow(core, &sky_colour, w, h, rim, smooth_step);
+    // roof: flooding on from the core's rim only (the core is all seen);
+    // the sky behind branches beside it.
+    let (mut sky, behind) = rayon::join(
+        || {
+            grow(
+                core.clone(),
+                &sky_colour,
+                w,
+                h,
+                rim(&core, w, h),
+                smooth_step,
+            )
+        },
+        || behind_branches(f, &core, &sky_colour),
+    );
     // The sky behind branches is added last: its gaps' colours are not
     // flooded on (a pale wall's window frames vanish in the closing too).
     if let Some(behind) = behind {
@@ -259,12 +270,14 @@ fn behind_branches(f: &Features, core: &[bool], colour: &[bool]) -> Option<Vec<b
     let mut seeds = rim(core, w, h);
     seeds.extend(0..w);
     let crown = grow(core.to_vec(), &cand, w, h, seeds, step);
+    // Below the band the crown is the core: sky already.
     Some(
         (0..w * h)
             .into_par_iter()
             .map(|i| {
                 let p = f.rgb_at(i);
-                crown[i]
+                i < rows * w
+                    && crown[i]
                     && colour[i]
                     && (0..3).map(|k| (p[k] - mean[k]).abs()).sum::<f32>() < BRANCH_MATCH
             })
@@ -532,7 +545,7 @@ mod tests {
         // right of column 150, a crown of dark twigs 1 pixel wide, 5
         // apart (the texture is high all through it).
         let (w, h) = (400u32, 300u32);
-        let twig = |x: u32, y: u32| x >= 150 && y < 130 && (x + y / 3) % 5 == 0;
+        let twig = |x: u32, y: u32| x >= 150 && y < 130 && (x + y / 3).is_multiple_of(5);
         let img = image::RgbImage::from_fn(w, h, |x, y| {
             image::Rgb(if y >= 150 {
                 if y % 9 == 0 {
