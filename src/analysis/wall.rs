@@ -6,7 +6,6 @@
 //! "Guided image filtering", 2010, eqs. (7)-(8)) on the photo's luma.
 
 use crate::analysis::neighbours;
-use std::collections::VecDeque;
 
 use image::GrayImage;
 use rayon::prelude::*;
@@ -304,14 +303,26 @@ fn close(src: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
 
 /// `pick` (max or min) over a (2r+1)^2 box clipped at the borders, rows
 /// then columns, rows in parallel.
-fn extreme(src: &[f32], w: usize, h: usize, r: usize, pick: fn(f32, f32) -> f32) -> Vec<f32> {
+fn extreme(
+    src: &[f32],
+    w: usize,
+    h: usize,
+    r: usize,
+    pick: impl Fn(f32, f32) -> f32 + Copy + Sync,
+) -> Vec<f32> {
     let mut tmp = vec![0f32; w * h];
     tmp.par_chunks_mut(w)
         .zip(src.par_chunks(w))
         .for_each(|(out, row)| {
-            for (x, v) in out.iter_mut().enumerate() {
-                let (a, b) = (x.saturating_sub(r), (x + r + 1).min(w));
-                *v = row[a..b].iter().copied().fold(row[x], pick);
+            // Each shift of the row picked in turn (vectorised).
+            out.copy_from_slice(row);
+            for d in 1..=r.min(w.saturating_sub(1)) {
+                for (v, &t) in out[d..].iter_mut().zip(row) {
+                    *v = pick(*v, t);
+                }
+                for (v, &t) in out.iter_mut().zip(&row[d..]) {
+                    *v = pick(*v, t);
+                }
             }
         });
     let mut out = vec![0f32; w * h];
@@ -386,21 +397,35 @@ fn grow(
     seeds: Vec<usize>,
     step_ok: impl Fn(usize, usize) -> bool,
 ) -> Vec<bool> {
-    let mut queue: VecDeque<usize> = VecDeque::new();
+    // Depth first from a stack of (x, y): the pixels reached do not
+    // depend on the order, and no division per pixel.
+    let mut stack: Vec<(usize, usize)> = Vec::new();
     for s in seeds {
         if cand[s] {
             seen[s] = true;
-            queue.push_back(s);
+            stack.push((s % w, s / w));
         }
     }
-    while let Some(i) = queue.pop_front() {
-        let mut visit = |j: usize| {
+    while let Some((x, y)) = stack.pop() {
+        let i = y * w + x;
+        let mut visit = |j: usize, xy: (usize, usize)| {
             if cand[j] && !seen[j] && step_ok(i, j) {
                 seen[j] = true;
-                queue.push_back(j);
+                stack.push(xy);
             }
         };
-        neighbours(i, w, h).for_each(&mut visit);
+        if x > 0 {
+            visit(i - 1, (x - 1, y));
+        }
+        if x + 1 < w {
+            visit(i + 1, (x + 1, y));
+        }
+        if y > 0 {
+            visit(i - w, (x, y - 1));
+        }
+        if y + 1 < h {
+            visit(i + w, (x, y + 1));
+        }
     }
     seen
 }
