@@ -174,12 +174,19 @@ fn sky(f: &Features) -> Vec<bool> {
         let [r, g, b] = f.rgb_at(i);
         b - r > CLEAR_BLUE && b > g && f.texture[i] < SKY_TEXTURE
     }));
-    let core = flood(&sky_cand, w, h, seeds, smooth_step);
-    // Sky cut off from the seeds by a wire, a lamp post or a branch.
-    let core = match across_lines(f, &core, &sky_cand) {
-        Some(more) => grow(core, &sky_cand, w, h, more, smooth_step),
-        None => core,
-    };
+    // The closing for the sky behind branches needs only the photo: it is
+    // made beside the fills.
+    let (core, closed) = rayon::join(
+        || {
+            let core = flood(&sky_cand, w, h, seeds, smooth_step);
+            // Sky cut off from the seeds by a wire, a lamp post or a branch.
+            match across_lines(f, &core, &sky_cand) {
+                Some(more) => grow(core, &sky_cand, w, h, more, smooth_step),
+                None => core,
+            }
+        },
+        || Closed::new(f),
+    );
     // Then up to the roof edge, where the texture window already sees the
     // roof: flooding on from the core's rim only (the core is all seen);
     // the sky behind branches beside it.
@@ -194,7 +201,7 @@ fn sky(f: &Features) -> Vec<bool> {
                 smooth_step,
             )
         },
-        || behind_branches(f, &core, &sky_colour),
+        || behind_branches(f, &core, &sky_colour, &closed),
     );
     // The sky behind branches is added last: its gaps' colours are not
     // flooded on (a pale wall's window frames vanish in the closing too).
@@ -217,14 +224,53 @@ fn is_sky_colour([r, g, b]: [f32; 3]) -> bool {
     blue || (luma > 0.62 && sat < 0.16)
 }
 
+/// The upper half's closing ([`BRANCH_GAP`]), where bare twigs vanish,
+/// and its texture. Needs only the photo: made beside the sky's fills.
+struct Closed {
+    /// Red, green, blue planes of the closing, `band` rows.
+    rgb: [Vec<f32>; 3],
+    /// Mean luma gradient of the closing, as [`Features::texture`].
+    texture: Vec<f32>,
+}
+
+impl Closed {
+    fn new(f: &Features) -> Closed {
+        let (w, h) = (f.w, f.h);
+        // The upper half and a little more (the box's reach).
+        let band = (h / 2 + 2 * BRANCH_GAP).min(h);
+        let rgb: [Vec<f32>; 3] =
+            std::array::from_fn(|k| close(&f.rgb[k][..band * w], w, band, BRANCH_GAP));
+        let luma: Vec<f32> = (0..band * w)
+            .into_par_iter()
+            .map(|i| 0.299 * rgb[0][i] + 0.587 * rgb[1][i] + 0.114 * rgb[2][i])
+            .collect();
+        let mut grad = vec![0f32; band * w];
+        grad.par_chunks_mut(w).enumerate().for_each(|(y, out)| {
+            let row = |y: usize| &luma[y * w..(y + 1) * w];
+            let (up, here, down) = (row(y.saturating_sub(1)), row(y), row((y + 1).min(band - 1)));
+            for (x, g) in out.iter_mut().enumerate() {
+                let gx = here[(x + 1).min(w - 1)] - here[x.saturating_sub(1)];
+                *g = gx.abs() + (down[x] - up[x]).abs();
+            }
+        });
+        let texture = box_mean(&grad, w, band, texture_radius(w, h));
+        Closed { rgb, texture }
+    }
+}
+
 /// Sky seen through bare branches (a crown against an overcast sky, whose
 /// twigs keep the texture above [`SKY_TEXTURE`] everywhere): in the upper
-/// half's closing ([`BRANCH_GAP`]) the twigs vanish, and the smooth
-/// sky-coloured closing 4-connected to the sky found (`core`) or to the
-/// top row is the crown's extent; its pixels that are sky-coloured
-/// themselves (`colour`) and within [`BRANCH_MATCH`] of the core's mean
-/// colour are the gaps between the twigs. None when there is no core.
-fn behind_branches(f: &Features, core: &[bool], colour: &[bool]) -> Option<Vec<bool>> {
+/// half's closing the twigs vanish, and the smooth sky-coloured closing
+/// 4-connected to the sky found (`core`) or to the top row is the crown's
+/// extent; its pixels that are sky-coloured themselves (`colour`) and
+/// within [`BRANCH_MATCH`] of the core's mean colour are the gaps between
+/// the twigs. None when there is no core.
+fn behind_branches(
+    f: &Features,
+    core: &[bool],
+    colour: &[bool],
+    closed: &Closed,
+) -> Option<Vec<bool>> {
     let (w, h) = (f.w, f.h);
     let found = core.par_iter().filter(|&&c| c).count();
     let rows = h / 2;
@@ -239,25 +285,8 @@ fn behind_branches(f: &Features, core: &[bool], colour: &[bool]) -> Option<Vec<b
             .sum();
         (sum / found as f64) as f32
     });
-    // The closing of the upper half and a little more (the box's reach).
-    let band = (rows + 2 * BRANCH_GAP).min(h);
-    let closed: [Vec<f32>; 3] =
-        std::array::from_fn(|k| close(&f.rgb[k][..band * w], w, band, BRANCH_GAP));
-    let at = |i: usize| [closed[0][i], closed[1][i], closed[2][i]];
-    let luma: Vec<f32> = (0..band * w)
-        .into_par_iter()
-        .map(|i| 0.299 * closed[0][i] + 0.587 * closed[1][i] + 0.114 * closed[2][i])
-        .collect();
-    let mut grad = vec![0f32; band * w];
-    grad.par_chunks_mut(w).enumerate().for_each(|(y, out)| {
-        let row = |y: usize| &luma[y * w..(y + 1) * w];
-        let (up, here, down) = (row(y.saturating_sub(1)), row(y), row((y + 1).min(band - 1)));
-        for (x, g) in out.iter_mut().enumerate() {
-            let gx = here[(x + 1).min(w - 1)] - here[x.saturating_sub(1)];
-            *g = gx.abs() + (down[x] - up[x]).abs();
-        }
-    });
-    let texture = box_mean(&grad, w, band, texture_radius(w, h));
+    let at = |i: usize| [closed.rgb[0][i], closed.rgb[1][i], closed.rgb[2][i]];
+    let texture = &closed.texture;
     let cand: Vec<bool> = (0..w * h)
         .into_par_iter()
         .map(|i| core[i] || (i < rows * w && texture[i] < SKY_TEXTURE && is_sky_colour(at(i))))
