@@ -75,16 +75,7 @@ impl Features {
             .iter()
             .map(|p| 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2])
             .collect();
-        let mut grad = vec![0f32; w * h];
-        grad.par_chunks_mut(w).enumerate().for_each(|(y, out)| {
-            let row = |y: usize| &luma[y * w..(y + 1) * w];
-            let (up, here, down) = (row(y.saturating_sub(1)), row(y), row((y + 1).min(h - 1)));
-            for (x, g) in out.iter_mut().enumerate() {
-                let gx = here[(x + 1).min(w - 1)] - here[x.saturating_sub(1)];
-                *g = gx.abs() + (down[x] - up[x]).abs();
-            }
-        });
-        let texture = box_mean(&grad, w, h, texture_radius(w, h));
+        let texture = texture(&luma, w, h, texture_radius(w, h));
         Features {
             w,
             h,
@@ -100,6 +91,21 @@ impl Features {
     pub fn rgb_at(&self, i: usize) -> [f32; 3] {
         [self.rgb[0][i], self.rgb[1][i], self.rgb[2][i]]
     }
+}
+
+/// Local texture of a `w` x `h` luma plane: the mean over a box of radius
+/// `r` of its gradient magnitude (central differences, |gx| + |gy|).
+pub fn texture(luma: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
+    let mut grad = vec![0f32; w * h];
+    grad.par_chunks_mut(w).enumerate().for_each(|(y, out)| {
+        let row = |y: usize| &luma[y * w..(y + 1) * w];
+        let (up, here, down) = (row(y.saturating_sub(1)), row(y), row((y + 1).min(h - 1)));
+        for (x, g) in out.iter_mut().enumerate() {
+            let gx = here[(x + 1).min(w - 1)] - here[x.saturating_sub(1)];
+            *g = gx.abs() + (down[x] - up[x]).abs();
+        }
+    });
+    box_mean(&grad, w, h, r)
 }
 
 /// Radius of the box the texture is averaged over (a thin line raises the

@@ -106,15 +106,7 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
 fn flat_ground(f: &Features, side: &Sideways, class: &[Class], g: &mut [bool]) {
     let (w, h) = (f.w, f.h);
     let from = (h as f32 * FLAT_GROUND_FROM) as usize * w;
-    let cand: Vec<bool> = (0..w * h)
-        .into_par_iter()
-        .map(|i| {
-            i >= from
-                && class[i] == Class::Wall
-                && side.at(i) < FLAT_GROUND
-                && saturation(f.rgb_at(i)) < FLAT_GROUND_SATURATION
-        })
-        .collect();
+    let cand = super::plane::flat_wall(f, side, class, from, FLAT_GROUND, FLAT_GROUND_SATURATION);
     let row = (h - 1) * w;
     let part = flood(&cand, w, h, (row..row + w).collect(), |_, _| true);
     let bottom = h * 4 / 5 * w..w * h;
@@ -152,15 +144,6 @@ fn oblique(f: &Features, part: &[bool]) -> f32 {
         })
         .reduce(|| (0.0, 0.0), |p, q| (p.0 + q.0, p.1 + q.1));
     if b > 0.0 { (a / b) as f32 } else { 0.0 }
-}
-
-fn saturation([r, g, b]: [f32; 3]) -> f32 {
-    let mx = r.max(g).max(b);
-    if mx <= 1e-3 {
-        0.0
-    } else {
-        (mx - r.min(g).min(b)) / mx
-    }
 }
 
 /// True when what lies above the top of `part` (a twelfth of the height

@@ -73,15 +73,7 @@ pub fn settle(f: &Features, side: &Sideways, class: &mut [Class]) {
         return;
     }
     let from = farthest(class, w, h).max((h as f32 * FLAT_FROM) as usize) * w;
-    let flat: Vec<bool> = (0..w * h)
-        .into_par_iter()
-        .map(|i| {
-            i >= from
-                && class[i] == Class::Wall
-                && side.at(i) < FLAT
-                && saturation(f.rgb_at(i)) < FLAT_SATURATION
-        })
-        .collect();
+    let flat = flat_wall(f, side, class, from, FLAT, FLAT_SATURATION);
     let seeds: Vec<usize> = (from..w * h)
         .filter(|&i| flat[i] && super::neighbours(i, w, h).any(|j| class[j] == Class::Ground))
         .collect();
@@ -113,7 +105,29 @@ fn farthest(class: &[Class], w: usize, h: usize) -> usize {
     *tops.select_nth_unstable(k).1
 }
 
-fn saturation([r, g, b]: [f32; 3]) -> f32 {
+/// Wall pixels from index `from` on whose gradients run sideways less
+/// than `flat` (they lie flat) and whose saturation is under `sat`.
+pub(super) fn flat_wall(
+    f: &Features,
+    side: &Sideways,
+    class: &[Class],
+    from: usize,
+    flat: f32,
+    sat: f32,
+) -> Vec<bool> {
+    (0..f.w * f.h)
+        .into_par_iter()
+        .map(|i| {
+            i >= from
+                && class[i] == Class::Wall
+                && side.at(i) < flat
+                && saturation(f.rgb_at(i)) < sat
+        })
+        .collect()
+}
+
+/// HSV saturation, 0..1 (0 for black).
+pub(super) fn saturation([r, g, b]: [f32; 3]) -> f32 {
     let mx = r.max(g).max(b);
     if mx <= 1e-3 {
         0.0

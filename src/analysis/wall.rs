@@ -11,7 +11,7 @@ use image::GrayImage;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::features::{Features, box_mean, texture_radius};
+use super::features::{Features, box_mean, texture, texture_radius};
 
 /// What an analysis pixel shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -214,12 +214,7 @@ fn sky(f: &Features) -> Vec<bool> {
 /// Bright and bluish, or bright and grey-white.
 fn is_sky_colour([r, g, b]: [f32; 3]) -> bool {
     let luma = 0.299 * r + 0.587 * g + 0.114 * b;
-    let mx = r.max(g).max(b);
-    let sat = if mx <= 1e-3 {
-        0.0
-    } else {
-        (mx - r.min(g).min(b)) / mx
-    };
+    let sat = super::plane::saturation([r, g, b]);
     let blue = b - r > 0.03 && b >= g - 0.03 && b > 0.35;
     blue || (luma > 0.62 && sat < 0.16)
 }
@@ -244,16 +239,7 @@ impl Closed {
             .into_par_iter()
             .map(|i| 0.299 * rgb[0][i] + 0.587 * rgb[1][i] + 0.114 * rgb[2][i])
             .collect();
-        let mut grad = vec![0f32; band * w];
-        grad.par_chunks_mut(w).enumerate().for_each(|(y, out)| {
-            let row = |y: usize| &luma[y * w..(y + 1) * w];
-            let (up, here, down) = (row(y.saturating_sub(1)), row(y), row((y + 1).min(band - 1)));
-            for (x, g) in out.iter_mut().enumerate() {
-                let gx = here[(x + 1).min(w - 1)] - here[x.saturating_sub(1)];
-                *g = gx.abs() + (down[x] - up[x]).abs();
-            }
-        });
-        let texture = box_mean(&grad, w, band, texture_radius(w, h));
+        let texture = texture(&luma, w, band, texture_radius(w, h));
         Closed { rgb, texture }
     }
 }
@@ -277,14 +263,7 @@ fn behind_branches(
     if found == 0 || rows == 0 {
         return None;
     }
-    let mean: [f32; 3] = std::array::from_fn(|k| {
-        let sum: f64 = (0..w * h)
-            .into_par_iter()
-            .filter(|&i| core[i])
-            .map(|i| f.rgb[k][i] as f64)
-            .sum();
-        (sum / found as f64) as f32
-    });
+    let mean = mean_colour(f, core, found);
     let at = |i: usize| [closed.rgb[0][i], closed.rgb[1][i], closed.rgb[2][i]];
     let texture = &closed.texture;
     let cand: Vec<bool> = (0..w * h)
@@ -311,6 +290,18 @@ fn behind_branches(
             })
             .collect(),
     )
+}
+
+/// Mean colour of the `found` pixels of `set`.
+fn mean_colour(f: &Features, set: &[bool], found: usize) -> [f32; 3] {
+    std::array::from_fn(|k| {
+        let sum: f64 = (0..f.w * f.h)
+            .into_par_iter()
+            .filter(|&i| set[i])
+            .map(|i| f.rgb[k][i] as f64)
+            .sum();
+        (sum / found as f64) as f32
+    })
 }
 
 /// Pixels of `set` with a 4-neighbour outside it (where a flood from the
@@ -378,14 +369,7 @@ fn across_lines(f: &Features, core: &[bool], cand: &[bool]) -> Option<Vec<usize>
     if found == 0 || upper == 0 {
         return None;
     }
-    let mean: [f32; 3] = std::array::from_fn(|k| {
-        let sum: f64 = (0..w * h)
-            .into_par_iter()
-            .filter(|&i| core[i])
-            .map(|i| f.rgb[k][i] as f64)
-            .sum();
-        (sum / found as f64) as f32
-    });
+    let mean = mean_colour(f, core, found);
     let sky_share: Vec<f32> = core[..upper].par_iter().map(|&c| c as u8 as f32).collect();
     // Past the line and the texture it raises on each side, then the reach.
     let r = w.max(h) / SKY_REACH + 2 * texture_radius(w, h) + 2;
