@@ -5,8 +5,8 @@
 //!
 //! Classical vision at about 1 MP (colour and texture statistics, gradient
 //! edge tracing), pure and deterministic at any thread count: no model
-//! weights. The matte is refined with a guided filter on the photo and
-//! upsampled to the photo's size.
+//! weights. The matte is refined with a (fast) guided filter on the photo
+//! and upsampled to the photo's size.
 //!
 //! ```
 //! use grime::analysis::{self, Options};
@@ -25,6 +25,7 @@ mod foliage;
 mod glass;
 mod ground;
 mod ledges;
+mod matte;
 mod overlay;
 mod plane;
 mod scale;
@@ -205,7 +206,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
             let shelter = shelter::map(&f, &ledges);
             (ledges, shelter, storey, ms(t2))
         },
-        || wall::refine(&f, &classes),
+        || matte::refine(&f, &classes),
     );
     let wall_fraction = small.iter().sum::<f32>() / small.len().max(1) as f32;
     if wall_fraction < 0.01 {
@@ -213,7 +214,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
             name: opts.name.clone(),
         });
     }
-    let matte = wall::upsample(&small, &f, photo.width(), photo.height());
+    let matte = matte::upsample(&small, &f, photo.width(), photo.height());
     let t_matte = ms(t3);
     let to_photo = |p: [f32; 2]| [p[0] * f.sx, p[1] * f.sy];
     let ledges: Vec<Ledge> = ledges

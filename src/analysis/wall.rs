@@ -1,13 +1,11 @@
 //! What is wall: sky, vegetation, ground and window glass are found from
 //! colour and texture statistics and where they sit (sky touches the top,
 //! ground the bottom, glass forms dark compact blobs, bare branches are
-//! surrounded by sky); the rest is wall. The
-//! hard labels become a soft matte with a guided filter (He, Sun and Tang,
-//! "Guided image filtering", 2010, eqs. (7)-(8)) on the photo's luma.
+//! surrounded by sky); the rest is wall. `matte.rs` makes the hard labels
+//! a soft matte.
 
 use crate::analysis::neighbours;
 
-use image::GrayImage;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -448,79 +446,6 @@ fn grow(
 const BRANCHES: f32 = 0.45;
 /// Bare branches are looked for in photos at least this long (pixels).
 const BRANCHES_MIN_SIDE: usize = 200;
-
-/// The wall as a soft matte (0..1) at analysis resolution: the hard labels
-/// through a guided filter on luma, He et al. eqs. (7)-(8).
-pub fn refine(f: &Features, class: &[Class]) -> Vec<f32> {
-    let (w, h) = (f.w, f.h);
-    let p: Vec<f32> = class
-        .iter()
-        .map(|&c| (c == Class::Wall) as u8 as f32)
-        .collect();
-    if p.iter().all(|&v| v == 1.0) || p.iter().all(|&v| v == 0.0) {
-        return p;
-    }
-    let r = (w.max(h) / 300).max(2);
-    let eps = 0.004;
-    let i = &f.luma;
-    let mean_i = box_mean(i, w, h, r);
-    let mean_p = box_mean(&p, w, h, r);
-    let ip: Vec<f32> = i.iter().zip(&p).map(|(a, b)| a * b).collect();
-    let ii: Vec<f32> = i.iter().map(|a| a * a).collect();
-    let corr_ip = box_mean(&ip, w, h, r);
-    let corr_ii = box_mean(&ii, w, h, r);
-    let n = w * h;
-    let mut a = vec![0f32; n];
-    let mut b = vec![0f32; n];
-    for k in 0..n {
-        let var = corr_ii[k] - mean_i[k] * mean_i[k];
-        let cov = corr_ip[k] - mean_i[k] * mean_p[k];
-        a[k] = cov / (var + eps); // eq. (7)
-        b[k] = mean_p[k] - a[k] * mean_i[k]; // eq. (8)
-    }
-    let ma = box_mean(&a, w, h, r);
-    let mb = box_mean(&b, w, h, r);
-    (0..n)
-        .map(|k| (ma[k] * i[k] + mb[k]).clamp(0.0, 1.0))
-        .collect()
-}
-
-/// The matte at the photo's size (bilinear).
-pub fn upsample(small: &[f32], f: &Features, pw: u32, ph: u32) -> GrayImage {
-    let (w, h) = (f.w, f.h);
-    let xs: Vec<(usize, usize, f32)> = (0..pw as usize)
-        .map(|x| tap((x as f32 + 0.5) / f.sx - 0.5, w))
-        .collect();
-    // Each analysis row widened to the photo's width once, in 0..255;
-    // then each photo row is a blend of two wide rows (a loop the compiler
-    // vectorises, no lookups per photo pixel).
-    let wide: Vec<Vec<f32>> = small
-        .par_chunks(w)
-        .map(|row| {
-            xs.iter()
-                .map(|&(x0, x1, tx)| (row[x0] + (row[x1] - row[x0]) * tx) * 255.0)
-                .collect()
-        })
-        .collect();
-    let mut out = vec![0u8; pw as usize * ph as usize];
-    out.par_chunks_mut(pw as usize)
-        .enumerate()
-        .for_each(|(y, row)| {
-            let (y0, y1, ty) = tap((y as f32 + 0.5) / f.sy - 0.5, h);
-            for (o, (&a, &b)) in row.iter_mut().zip(wide[y0].iter().zip(&wide[y1])) {
-                // The matte is in 0..1, so +0.5 then truncation rounds.
-                *o = (a + (b - a) * ty + 0.5) as u8;
-            }
-        });
-    GrayImage::from_raw(pw, ph, out).expect("buffer has the photo's size")
-}
-
-/// The two neighbours of continuous coordinate `c` in `0..n` and the weight of the second.
-fn tap(c: f32, n: usize) -> (usize, usize, f32) {
-    let c = c.clamp(0.0, (n - 1) as f32);
-    let a = c.floor() as usize;
-    (a, (a + 1).min(n - 1), c - a as f32)
-}
 
 #[cfg(test)]
 mod tests {
