@@ -8,7 +8,7 @@ use crate::analysis::neighbours;
 use std::fmt::Write as _;
 
 use super::scale::{STOREY_M, storey_px};
-use super::{Analysis, LedgeKind};
+use super::{Analysis, Class, LedgeKind};
 
 /// Truth label: not scored (windows, doors, "various").
 pub const IGNORE: u8 = 0;
@@ -27,6 +27,17 @@ pub const CAR: u8 = 6;
 
 /// Names of the negative labels, index = label.
 const NEGATIVE_NAMES: [&str; 7] = ["", "", "sky", "other", "vegetation", "ground", "car"];
+
+/// The classes a missed wall pixel can have, in [`Class`] order, with
+/// the name [`Metrics::report`] gives each (the matte's soft edge for
+/// [`Class::Wall`]).
+const MISS_NAMES: [(Class, &str); 5] = [
+    (Class::Wall, "edge"),
+    (Class::Sky, "sky"),
+    (Class::Vegetation, "vegetation"),
+    (Class::Glass, "glass"),
+    (Class::Ground, "ground"),
+];
 
 /// A labelled ledge: its box in photo pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -83,6 +94,12 @@ pub struct Metrics {
     /// Per negative label (index = label, [`SKY`] to [`CAR`]): pixels,
     /// and those called wall.
     pub spill_by: [(u64, u64); 7],
+    /// Wall pixels.
+    pub walls: u64,
+    /// Wall pixels not called wall, by the class their analysis pixel
+    /// has (index = [`Class`] as usize; at [`Class::Wall`]: the matte's
+    /// soft edge fell under half there).
+    pub miss_by: [u64; 5],
     /// Labelled ledges.
     pub bands: usize,
     /// Labelled ledges found.
@@ -148,6 +165,14 @@ impl Metrics {
                 let truth = l == WALL_LABEL;
                 inter += (p && truth) as u64;
                 union += (p || truth) as u64;
+                if truth {
+                    self.walls += 1;
+                    if let (Some(a), false) = (a, p) {
+                        let w = t.width.max(1);
+                        let c = a.class_at(i as u32 % w, i as u32 / w);
+                        self.miss_by[c as usize] += 1;
+                    }
+                }
                 if !truth {
                     self.negatives += 1;
                     self.negatives_wall += p as u64;
@@ -311,6 +336,16 @@ impl Metrics {
                     );
                 }
             }
+            // The other half of the IoU: wall called something else.
+            for (class, name) in MISS_NAMES.iter().skip(1).chain(&MISS_NAMES[..1]) {
+                let n = self.miss_by[*class as usize];
+                let _ = writeln!(
+                    s,
+                    "  miss {name:11} {:.3} ({n}/{} wall px)",
+                    n as f64 / self.walls.max(1) as f64,
+                    self.walls
+                );
+            }
         }
         if self.window_px > 0 {
             let _ = writeln!(
@@ -445,6 +480,37 @@ mod tests {
             },
             timings: Timings::default(),
         }
+    }
+
+    #[test]
+    fn wall_called_something_else_is_counted_by_its_class() {
+        // All wall; the matte takes the left half; on the right the top
+        // is called glass, the bottom ground.
+        let mut a = analysis(Vec::new());
+        a.matte = image::GrayImage::from_fn(100, 100, |x, _| image::Luma([255 * (x < 50) as u8]));
+        a.classes = (0..100 * 100)
+            .map(|i| match (i % 100 < 50, i / 100 < 50) {
+                (true, _) => Class::Wall,
+                (false, true) => Class::Glass,
+                (false, false) => Class::Ground,
+            })
+            .collect();
+        let t = Truth {
+            width: 100,
+            height: 100,
+            labels: Some(vec![WALL_LABEL; 100 * 100]),
+            ..Truth::default()
+        };
+        let mut m = Metrics::default();
+        m.add(Some(&a), &t);
+        assert_eq!(m.walls, 10000);
+        assert_eq!(m.miss_by, [0, 0, 0, 2500, 2500]);
+        let r = m.report();
+        assert!(
+            r.contains("  miss glass       0.250 (2500/10000 wall px)"),
+            "{r}"
+        );
+        assert!(r.contains("  miss sky         0.000"), "{r}");
     }
 
     #[test]
