@@ -125,17 +125,13 @@ pub fn classify(f: &Features) -> Vec<Class> {
         .into_par_iter()
         .map(|i| {
             let [r, g, b] = f.rgb_at(i);
-            let exg = (2.0 * g - r - b) / (r + g + b + 0.05);
+            let exg = super::foliage::green_excess([r, g, b]);
             (exg > GREEN_EXCESS && g > r && g > b * 0.9) as u8 as f32
         })
         .collect();
     let veg = box_mean(&veg_cand, w, h, (w.max(h) / 200).max(1));
-    class.par_iter_mut().zip(&veg).for_each(|(c, &v)| {
-        if v > VEGETATION_VOTE && *c == Class::Wall {
-            *c = Class::Vegetation;
-        }
-    });
-    leaves.mark(w, &mut class);
+    let green: Vec<bool> = veg.par_iter().map(|&v| v > VEGETATION_VOTE).collect();
+    leaves.mark(f, &green, &mut class);
     super::ground::ground(f, &steps, &side, &mut class);
     super::glass::find(f, &mut class);
     super::plane::settle(f, &side, &mut class);
