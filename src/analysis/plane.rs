@@ -73,7 +73,7 @@ pub fn settle(f: &Features, side: &Sideways, class: &mut [Class]) {
         return;
     }
     let from = farthest(class, w, h).max((h as f32 * FLAT_FROM) as usize) * w;
-    let flat = flat_wall(f, side, class, from, FLAT, (FLAT_SATURATION, 0.0));
+    let flat = flat_wall(f, side, class, from, FLAT, FLAT_SATURATION);
     let seeds: Vec<usize> = (from..w * h)
         .filter(|&i| flat[i] && super::neighbours(i, w, h).any(|j| class[j] == Class::Ground))
         .collect();
@@ -106,16 +106,14 @@ fn farthest(class: &[Class], w: usize, h: usize) -> usize {
 }
 
 /// Wall pixels from index `from` on whose gradients run sideways less
-/// than `flat` (they lie flat) and whose saturation, measured against a
-/// brightest channel of at least `dark` (see [`saturation_over`]), is
-/// under `sat`.
+/// than `flat` (they lie flat) and whose saturation is under `sat`.
 pub(super) fn flat_wall(
     f: &Features,
     side: &Sideways,
     class: &[Class],
     from: usize,
     flat: f32,
-    (sat, dark): (f32, f32),
+    sat: f32,
 ) -> Vec<bool> {
     (0..f.w * f.h)
         .into_par_iter()
@@ -123,27 +121,18 @@ pub(super) fn flat_wall(
             i >= from
                 && class[i] == Class::Wall
                 && side.at(i) < flat
-                && saturation_over(f.rgb_at(i), dark) < sat
+                && saturation(f.rgb_at(i)) < sat
         })
         .collect()
 }
 
 /// HSV saturation, 0..1 (0 for black).
-pub(super) fn saturation(c: [f32; 3]) -> f32 {
-    saturation_over(c, 0.0)
-}
-
-/// Chroma (brightest minus darkest channel) over the brightest channel or
-/// `dark`, whichever is larger: HSV saturation where the pixel is brighter
-/// than `dark`, and below it chroma against `dark`. HSV's saturation of a
-/// dark pixel is mostly noise and tint: asphalt at dusk, a grey car's
-/// shaded panels read 0.4 though they are greys (0 for black).
-pub(super) fn saturation_over([r, g, b]: [f32; 3], dark: f32) -> f32 {
-    let mx = r.max(g).max(b).max(dark);
+pub(super) fn saturation([r, g, b]: [f32; 3]) -> f32 {
+    let mx = r.max(g).max(b);
     if mx <= 1e-3 {
         0.0
     } else {
-        (r.max(g).max(b) - r.min(g).min(b)) / mx
+        (mx - r.min(g).min(b)) / mx
     }
 }
 
