@@ -250,10 +250,7 @@ pub fn relabel(f: &Features, side: &Sideways, class: &mut [Class]) {
     // for the sky pixels of a sky cell turned wall that look like sky
     // themselves ([`SKY_PIXEL`]).
     let keeps_sky = |i: usize| match (&models[1], &models[0]) {
-        (Some(sky), Some(wall)) => {
-            let colour = lab(f.rgb_at(i)).map(|v| v / 100.0);
-            sky.log_pdf_colour(colour) > wall.log_pdf_colour(colour) + SKY_PIXEL
-        }
+        (Some(sky), Some(wall)) => looks_like_sky(sky, wall, f.rgb_at(i)),
         _ => false,
     };
     class.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
@@ -292,6 +289,13 @@ fn lab(rgb: [f32; 3]) -> [f32; 3] {
     };
     let (fx, fy, fz) = (f(x), f(y), f(z));
     [116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz)]
+}
+
+/// Whether colour `rgb` is likelier under the `sky` model than under the
+/// `wall` model by more than [`SKY_PIXEL`].
+fn looks_like_sky(sky: &Gmm, wall: &Gmm, rgb: [f32; 3]) -> bool {
+    let colour = lab(rgb).map(|v| v / 100.0);
+    sky.log_pdf_colour(colour) > wall.log_pdf_colour(colour) + SKY_PIXEL
 }
 
 /// A mixture of diagonal Gaussians.
@@ -520,6 +524,34 @@ mod tests {
         let (s, truth) = street_with_tree();
         let class = vec![Class::Wall; truth.len()];
         assert_eq!(relabelled(&s, &class), class);
+    }
+
+    #[test]
+    fn a_sky_pixel_stays_sky_only_if_its_colour_fits_the_sky() {
+        // Sky fitted on pale blues, wall on beiges; the other features
+        // (texture, height, ...) vary and must not matter.
+        let samples = |base: [f32; 3]| -> Vec<[f32; D]> {
+            (0..120)
+                .map(|i| {
+                    let d = (i % 11) as f32 * 0.004;
+                    let c = lab([base[0] + d, base[1] + d, base[2] - d]).map(|v| v / 100.0);
+                    [
+                        c[0],
+                        c[1],
+                        c[2],
+                        (i % 5) as f32 * 0.1,
+                        (i % 7) as f32 * 0.1,
+                        0.5,
+                    ]
+                })
+                .collect()
+        };
+        let sky = Gmm::fit(&samples([0.55, 0.7, 0.92]), 2);
+        let wall = Gmm::fit(&samples([0.8, 0.7, 0.55]), 2);
+        assert!(looks_like_sky(&sky, &wall, [0.56, 0.71, 0.91]));
+        assert!(!looks_like_sky(&sky, &wall, [0.81, 0.71, 0.54]));
+        // With the models swapped, the same blue is no sky.
+        assert!(!looks_like_sky(&wall, &sky, [0.56, 0.71, 0.91]));
     }
 
     #[test]
