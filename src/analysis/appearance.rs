@@ -403,20 +403,19 @@ impl Gmm {
                 q - 0.5 * (self.var[j][d].ln() + (c[d] - self.mean[j][d]).powi(2) * self.inv[j][d])
             })
         };
-        let k = self.weight.len();
-        let mx = (0..k).map(component).fold(f32::NEG_INFINITY, f32::max);
-        mx + (0..k).map(|j| (component(j) - mx).exp()).sum::<f32>().ln()
+        self.mixture(component)
     }
 
     fn log_pdf(&self, x: &[f32; D]) -> f32 {
+        self.mixture(|j| self.log_component(j, x))
+    }
+
+    /// The log of the sum over components of exp(`component(j)`), the
+    /// largest factored out so nothing underflows.
+    fn mixture(&self, component: impl Fn(usize) -> f32) -> f32 {
         let k = self.weight.len();
-        let mx = (0..k)
-            .map(|j| self.log_component(j, x))
-            .fold(f32::NEG_INFINITY, f32::max);
-        mx + (0..k)
-            .map(|j| (self.log_component(j, x) - mx).exp())
-            .sum::<f32>()
-            .ln()
+        let mx = (0..k).map(&component).fold(f32::NEG_INFINITY, f32::max);
+        mx + (0..k).map(|j| (component(j) - mx).exp()).sum::<f32>().ln()
     }
 }
 

@@ -28,15 +28,15 @@ pub const CAR: u8 = 6;
 /// Names of the negative labels, index = label.
 const NEGATIVE_NAMES: [&str; 7] = ["", "", "sky", "other", "vegetation", "ground", "car"];
 
-/// The classes a missed wall pixel can have, in [`Class`] order, with
-/// the name [`Metrics::report`] gives each (the matte's soft edge for
-/// [`Class::Wall`]).
+/// The classes a missed wall pixel can have, in the order
+/// [`Metrics::report`] prints them, with the name it gives each (the
+/// matte's soft edge for [`Class::Wall`]).
 const MISS_NAMES: [(Class, &str); 5] = [
-    (Class::Wall, "edge"),
     (Class::Sky, "sky"),
     (Class::Vegetation, "vegetation"),
     (Class::Glass, "glass"),
     (Class::Ground, "ground"),
+    (Class::Wall, "edge"),
 ];
 
 /// A labelled ledge: its box in photo pixels.
@@ -172,8 +172,7 @@ impl Metrics {
                         let c = a.class_at(i as u32 % w, i as u32 / w);
                         self.miss_by[c as usize] += 1;
                     }
-                }
-                if !truth {
+                } else {
                     self.negatives += 1;
                     self.negatives_wall += p as u64;
                     let by = &mut self.spill_by[(l as usize).min(6)];
@@ -337,8 +336,8 @@ impl Metrics {
                 }
             }
             // The other half of the IoU: wall called something else.
-            for (class, name) in MISS_NAMES.iter().skip(1).chain(&MISS_NAMES[..1]) {
-                let n = self.miss_by[*class as usize];
+            for (class, name) in MISS_NAMES {
+                let n = self.miss_by[class as usize];
                 let _ = writeln!(
                     s,
                     "  miss {name:11} {:.3} ({n}/{} wall px)",
