@@ -198,13 +198,13 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
     let t_classes = ms(t1);
     let t3 = Instant::now();
     // Ledges and the matte need only the classes: side by side.
-    let ((ledges, shelter, storey, t_ledges), small) = rayon::join(
+    let ((ledges, shelter, periods, t_ledges), small) = rayon::join(
         || {
             let t2 = Instant::now();
-            let storey = scale::storey_from_jambs(&f, &classes);
-            let ledges = ledges::detect(&f, &classes, storey);
+            let periods = scale::jamb_periods(&f, &classes);
+            let ledges = ledges::detect(&f, &classes, periods.storey());
             let shelter = shelter::map(&f, &ledges);
-            (ledges, shelter, storey, ms(t2))
+            (ledges, shelter, periods, ms(t2))
         },
         || matte::refine(&f, &classes),
     );
@@ -224,7 +224,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
             ..l
         })
         .collect();
-    let scale = scale::estimate(&f, &classes, &ledges, storey, opts.wall_width_m);
+    let scale = scale::estimate(&f, &classes, &ledges, &periods, opts.wall_width_m);
     Ok(Analysis {
         width: photo.width(),
         height: photo.height(),
