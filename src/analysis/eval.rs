@@ -472,8 +472,7 @@ pub fn storey_from_windows(windows: &[Band], height: f32) -> Option<f32> {
                 .iter()
                 .filter(|b| {
                     let overlap = a.x1.min(b.x1) - a.x0.max(b.x0);
-                    b.y0 < a.y0 - 0.015 * height
-                        && overlap >= 0.5 * (a.x1 - a.x0).min(b.x1 - b.x0)
+                    b.y0 < a.y0 - 0.015 * height && overlap >= 0.5 * (a.x1 - a.x0).min(b.x1 - b.x0)
                 })
                 .map(|b| a.y0 - b.y0)
                 .min_by(f32::total_cmp)
@@ -587,5 +586,24 @@ mod tests {
         assert_eq!(m.detections_lenient_ok, 2);
         assert_eq!(m.by_kind[LedgeKind::WindowHead as usize], (1, 0));
         assert!(m.report().contains("lenient       0.667"), "{}", m.report());
+    }
+
+    #[test]
+    fn the_storey_is_the_rise_within_a_column_of_windows() {
+        // Two columns of windows 100 px apart in height, the right one
+        // 50 px lower: all the windows' rows are 50 px apart.
+        let window = |x0: f32, y0: f32| Band {
+            x0,
+            y0,
+            x1: x0 + 40.0,
+            y1: y0 + 60.0,
+        };
+        let mut windows: Vec<Band> = (0..4)
+            .map(|k| window(20.0, 20.0 + 100.0 * k as f32))
+            .collect();
+        windows.extend((0..4).map(|k| window(200.0, 70.0 + 100.0 * k as f32)));
+        assert_eq!(storey_from_windows(&windows, 500.0), Some(100.0));
+        // One window alone in its column: no rise.
+        assert_eq!(storey_from_windows(&windows[..1], 500.0), None);
     }
 }
