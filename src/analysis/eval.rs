@@ -460,7 +460,7 @@ pub fn components(labels: &[u8], w: usize, h: usize, wanted: &[u8], min_px: usiz
 /// [choice: rather than the spacing of all the windows' rows, which
 /// halves the storey where two rows of windows interleave: a neighbour's
 /// facade at other heights (CMP b0143, b0262), tall and short windows
-/// side by side (b0303). On CMP the two differ by more than 1.25x on 68
+/// side by side (b0303). On CMP the two differ by more than 1.23x on 68
 /// photos; of those looked at, the column rise was the storey seen.
 /// Weighted so that a tower's grid of small windows behind (b0103) does
 /// not outvote the facade's.]
