@@ -83,6 +83,15 @@ fn main() -> anyhow::Result<()> {
                 one.sky_spill(),
                 one.sky
             );
+            // The storey as estimated and as labelled, photo pixels.
+            if let (Some(a), Some(storey)) = (&a, truth.storey_px) {
+                let est = eval::STOREY_M / a.scale.metres_per_pixel;
+                println!(
+                    "{name}: storey {est:.0} px, labels {storey:.0} px (x{:.2}, {:?})",
+                    est / storey,
+                    a.scale.source
+                );
+            }
         }
     }
     print!("{}", m.report());

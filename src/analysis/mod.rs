@@ -198,13 +198,14 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
     let t_classes = ms(t1);
     let t3 = Instant::now();
     // Ledges and the matte need only the classes: side by side.
-    let ((ledges, shelter, storey, t_ledges), small) = rayon::join(
+    let ((ledges, shelter, (storey, glass_rows), t_ledges), small) = rayon::join(
         || {
             let t2 = Instant::now();
-            let storey = scale::storey_from_jambs(&f, &classes);
+            let glass_rows = scale::glass_rows(&f, &classes);
+            let storey = scale::jamb_periods(&f, &classes).checked(glass_rows);
             let ledges = ledges::detect(&f, &classes, storey);
             let shelter = shelter::map(&f, &ledges);
-            (ledges, shelter, storey, ms(t2))
+            (ledges, shelter, (storey, glass_rows), ms(t2))
         },
         || matte::refine(&f, &classes),
     );
@@ -224,7 +225,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
             ..l
         })
         .collect();
-    let scale = scale::estimate(&f, &classes, &ledges, storey, opts.wall_width_m);
+    let scale = scale::estimate(&f, &classes, &ledges, storey, glass_rows, opts.wall_width_m);
     Ok(Analysis {
         width: photo.width(),
         height: photo.height(),
