@@ -202,7 +202,140 @@ fn sky(f: &Features) -> Vec<bool> {
     if let Some(behind) = behind {
         sky.par_iter_mut().zip(&behind).for_each(|(s, &b)| *s |= b);
     }
+    windows_in_sky(f, &mut sky);
     sky
+}
+
+/// A window is a hole in the sky (non-sky pixels all around which is sky)
+/// of at least this share of the photo's pixels, ...
+const WINDOW_AREA: f32 = 0.0003;
+
+/// ... filling at least this share of its bounding box (compact: twigs and
+/// wires are not), ...
+const WINDOW_FILL: f32 = 0.6;
+
+/// ... with another window within this many times its longer side (windows
+/// come in rows and columns; a lamp or a sign alone in the sky does not).
+const WINDOW_PAIR: usize = 2;
+
+/// Sky around a window of a group, within this many times its width
+/// sideways and its height up and down, may be wall (measured on
+/// LabelMeFacade train: ...).
+const WINDOW_WALL: usize = 2;
+
+/// A window's rim: its bounding box grown by this many pixels.
+const WINDOW_RIM: usize = 2;
+
+/// A pale facade the sky fill took (a white or pale blue front under a blue
+/// or white sky, its roof edge too soft to stop the fill): its windows are
+/// left as holes in the sky, compact and in groups, which a real sky does
+/// not have. The sky around such windows is wall unless it is clear blue
+/// ([`CLEAR_BLUE`]) or nearer the colour of the rest of the sky than that
+/// of the windows' rims.
+fn windows_in_sky(f: &Features, sky: &mut [bool]) {
+    let (w, h) = (f.w, f.h);
+    if w < 3 || h < 3 || !sky.contains(&true) {
+        return;
+    }
+    // What is not sky and reaches the border is no hole.
+    let not_sky: Vec<bool> = sky.par_iter().map(|&s| !s).collect();
+    let border: Vec<usize> = (0..w)
+        .flat_map(|x| [x, (h - 1) * w + x])
+        .chain((1..h - 1).flat_map(|y| [y * w, y * w + w - 1]))
+        .collect();
+    let mut seen = flood(&not_sky, w, h, border, |_, _| true);
+    // Each hole's area and bounding box (x0, y0, x1, y1).
+    let mut holes: Vec<(usize, [usize; 4])> = Vec::new();
+    let mut stack: Vec<(usize, usize)> = Vec::new();
+    for start in 0..w * h {
+        if !not_sky[start] || seen[start] {
+            continue;
+        }
+        seen[start] = true;
+        stack.push((start % w, start / w));
+        let (mut area, mut bbox) = (0, [w, h, 0, 0]);
+        while let Some((x, y)) = stack.pop() {
+            area += 1;
+            bbox = [
+                bbox[0].min(x),
+                bbox[1].min(y),
+                bbox[2].max(x),
+                bbox[3].max(y),
+            ];
+            // Holes do not touch the border: every neighbour exists.
+            for (nx, ny) in [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)] {
+                let j = ny * w + nx;
+                if not_sky[j] && !seen[j] {
+                    seen[j] = true;
+                    stack.push((nx, ny));
+                }
+            }
+        }
+        holes.push((area, bbox));
+    }
+    let windows: Vec<[usize; 4]> = holes
+        .into_iter()
+        .filter(|&(area, [x0, y0, x1, y1])| {
+            let (bw, bh) = (x1 - x0 + 1, y1 - y0 + 1);
+            area as f32 >= WINDOW_AREA * (w * h) as f32
+                && area as f32 >= WINDOW_FILL * (bw * bh) as f32
+                && bw.min(bh) >= 3
+        })
+        .map(|(_, bbox)| bbox)
+        .collect();
+    let grown = |[x0, y0, x1, y1]: [usize; 4], gx: usize, gy: usize| {
+        [
+            x0.saturating_sub(gx),
+            y0.saturating_sub(gy),
+            (x1 + gx).min(w - 1),
+            (y1 + gy).min(h - 1),
+        ]
+    };
+    let overlap =
+        |a: [usize; 4], b: [usize; 4]| a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3];
+    // The groups' zones, and the rims of their windows (the wall just
+    // around each window, which the fill took as sky).
+    let (mut zone, mut rims) = (vec![false; w * h], vec![false; w * h]);
+    let mark = |set: &mut [bool], [x0, y0, x1, y1]: [usize; 4]| {
+        for y in y0..=y1 {
+            set[y * w + x0..=y * w + x1].fill(true);
+        }
+    };
+    for (i, &b) in windows.iter().enumerate() {
+        let (bw, bh) = (b[2] - b[0] + 1, b[3] - b[1] + 1);
+        let reach = WINDOW_PAIR * bw.max(bh);
+        let near = grown(b, reach, reach);
+        if windows
+            .iter()
+            .enumerate()
+            .any(|(j, &o)| j != i && overlap(near, o))
+        {
+            mark(&mut zone, grown(b, WINDOW_WALL * bw, WINDOW_WALL * bh));
+            mark(&mut rims, grown(b, WINDOW_RIM, WINDOW_RIM));
+        }
+    }
+    let in_rims: Vec<bool> = (0..w * h)
+        .into_par_iter()
+        .map(|i| sky[i] && rims[i])
+        .collect();
+    let rim_count = in_rims.par_iter().filter(|&&r| r).count();
+    if rim_count == 0 {
+        return;
+    }
+    let outside: Vec<bool> = (0..w * h)
+        .into_par_iter()
+        .map(|i| sky[i] && !zone[i])
+        .collect();
+    let outside_count = outside.par_iter().filter(|&&o| o).count();
+    let wall = mean_colour(f, &in_rims, rim_count);
+    let open = (outside_count > 0).then(|| mean_colour(f, &outside, outside_count));
+    let far = |p: [f32; 3], q: [f32; 3]| (0..3).map(|k| (p[k] - q[k]).abs()).sum::<f32>();
+    sky.par_iter_mut().enumerate().for_each(|(i, s)| {
+        if *s && zone[i] {
+            let p = f.rgb_at(i);
+            *s = p[2] - p[0] > CLEAR_BLUE || open.is_some_and(|open| far(p, open) <= far(p, wall));
+        }
+    });
 }
 
 /// Bright and bluish, or bright and grey-white.
@@ -570,6 +703,76 @@ mod tests {
             "{sky} of {} tower pixels are sky",
             tower.len()
         );
+    }
+
+    #[test]
+    fn a_pale_front_the_sky_took_is_wall_around_its_windows() {
+        // A pale blue sky (not clear blue) down to row 100 over a pale
+        // blue-grey front a soft step away, so the fill takes it; the front
+        // has three rows of six dark windows, 16 x 24 pixels.
+        let (w, h) = (400u32, 300u32);
+        let window = |x: u32, y: u32| {
+            (x + 20) % 60 < 16 && x < 360 && y >= 130 && (y - 130) % 60 < 24 && y < 274
+        };
+        let img = image::RgbImage::from_fn(w, h, |x, y| {
+            image::Rgb(if y < 100 {
+                [196, 210, 236]
+            } else if window(x, y) {
+                [60, 60, 70]
+            } else {
+                [200, 211, 230]
+            })
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
+        let sky = sky(&f);
+        let front: Vec<usize> = (110..290)
+            .flat_map(|y| (20..380).map(move |x| (x, y)))
+            .filter(|&(x, y)| !window(x, y))
+            .map(|(x, y)| (y * 400 + x) as usize)
+            .collect();
+        let taken = front.iter().filter(|&&i| sky[i]).count();
+        assert!(
+            taken * 10 < front.len(),
+            "{taken} of {} are sky",
+            front.len()
+        );
+        // The sky above, within reach of the top windows too, stays sky.
+        let above = &sky[10 * 400..98 * 400];
+        let kept = above.iter().filter(|&&s| s).count();
+        assert!(kept * 100 > above.len() * 98, "{kept} of {}", above.len());
+    }
+
+    #[test]
+    fn the_sky_around_a_lone_lamp_stays_sky() {
+        // A sky paling towards the horizon (not clear blue) over a brick
+        // wall; one dark lamp, 16 x 24 pixels, hangs low in it: a hole as
+        // compact as a window, but alone.
+        let (w, h) = (400u32, 300u32);
+        let lamp = |x: u32, y: u32| (190..206).contains(&x) && (150..174).contains(&y);
+        let img = image::RgbImage::from_fn(w, h, |x, y| {
+            let t = y.min(200) as f32 / 200.0;
+            let sky = [170.0 + 45.0 * t, 190.0 + 32.0 * t, 230.0 + 2.0 * t].map(|v| v as u8);
+            image::Rgb(if y >= 200 {
+                if y % 9 == 0 {
+                    [120, 80, 70]
+                } else {
+                    [170, 100, 80]
+                }
+            } else if lamp(x, y) {
+                [40, 40, 45]
+            } else {
+                sky
+            })
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
+        let sky = sky(&f);
+        let around: Vec<usize> = (110..196)
+            .flat_map(|y| (150..250).map(move |x| (x, y)))
+            .filter(|&(x, y)| !lamp(x, y))
+            .map(|(x, y)| (y * 400 + x) as usize)
+            .collect();
+        let kept = around.iter().filter(|&&i| sky[i]).count();
+        assert!(kept * 100 > around.len() * 95, "{kept} of {}", around.len());
     }
 
     #[test]
