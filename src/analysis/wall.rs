@@ -99,6 +99,31 @@ pub fn classify(f: &Features) -> Vec<Class> {
             )
         },
     );
+    // The windows in the sky beside the vegetation's vote (which needs
+    // only the photo): the hole search is serial.
+    let (sky, green) = rayon::join(
+        || {
+            let mut sky = sky;
+            windows_in_sky(f, &mut sky);
+            sky
+        },
+        || {
+            // Vegetation: green excess, smoothed by a vote (foliage has sky
+            // and bright leaves between its green).
+            let veg_cand: Vec<f32> = (0..n)
+                .into_par_iter()
+                .map(|i| {
+                    let [r, g, b] = f.rgb_at(i);
+                    let exg = super::foliage::green_excess([r, g, b]);
+                    (exg > GREEN_EXCESS && g > r && g > b * 0.9) as u8 as f32
+                })
+                .collect();
+            let veg = box_mean(&veg_cand, w, h, (w.max(h) / 200).max(1));
+            veg.par_iter()
+                .map(|&v| v > VEGETATION_VOTE)
+                .collect::<Vec<bool>>()
+        },
+    );
     class.par_iter_mut().zip(&sky).for_each(|(c, &s)| {
         if s {
             *c = Class::Sky;
@@ -119,18 +144,6 @@ pub fn classify(f: &Features) -> Vec<Class> {
                 }
             });
     }
-    // Vegetation: green excess, smoothed by a vote (foliage has sky and
-    // bright leaves between its green).
-    let veg_cand: Vec<f32> = (0..n)
-        .into_par_iter()
-        .map(|i| {
-            let [r, g, b] = f.rgb_at(i);
-            let exg = super::foliage::green_excess([r, g, b]);
-            (exg > GREEN_EXCESS && g > r && g > b * 0.9) as u8 as f32
-        })
-        .collect();
-    let veg = box_mean(&veg_cand, w, h, (w.max(h) / 200).max(1));
-    let green: Vec<bool> = veg.par_iter().map(|&v| v > VEGETATION_VOTE).collect();
     leaves.mark(f, &green, &mut class);
     super::ground::ground(f, &steps, &side, &mut class);
     super::glass::find(f, &mut class);
@@ -202,7 +215,6 @@ fn sky(f: &Features) -> Vec<bool> {
     if let Some(behind) = behind {
         sky.par_iter_mut().zip(&behind).for_each(|(s, &b)| *s |= b);
     }
-    windows_in_sky(f, &mut sky);
     sky
 }
 
@@ -237,23 +249,40 @@ fn windows_in_sky(f: &Features, sky: &mut [bool]) {
     if w < 3 || h < 3 || !sky.contains(&true) {
         return;
     }
-    // What is not sky and reaches the border is no hole.
-    let not_sky: Vec<bool> = sky.par_iter().map(|&s| !s).collect();
-    let border: Vec<usize> = (0..w)
-        .flat_map(|x| [x, (h - 1) * w + x])
-        .chain((1..h - 1).flat_map(|y| [y * w, y * w + w - 1]))
+    // Holes lie within the sky's bounds: what is not sky there and reaches
+    // their border reaches the photo's border (what lies outside them is
+    // not sky), so it is no hole. The bounds are cropped out.
+    let rows: Vec<Option<(usize, usize)>> = sky
+        .par_chunks(w)
+        .map(|row| Some((row.iter().position(|&s| s)?, row.iter().rposition(|&s| s)?)))
         .collect();
-    let mut seen = flood(&not_sky, w, h, border, |_, _| true);
-    // Each hole's area and bounding box (x0, y0, x1, y1).
+    let y0 = rows.iter().position(Option::is_some).unwrap_or(0);
+    let y1 = rows.iter().rposition(Option::is_some).unwrap_or(0);
+    let x0 = rows.iter().flatten().map(|r| r.0).min().unwrap_or(0);
+    let x1 = rows.iter().flatten().map(|r| r.1).max().unwrap_or(0);
+    let (cw, ch) = (x1 - x0 + 1, y1 - y0 + 1);
+    if cw < 3 || ch < 3 {
+        return;
+    }
+    let not_sky: Vec<bool> = (0..cw * ch)
+        .into_par_iter()
+        .map(|i| !sky[(y0 + i / cw) * w + x0 + i % cw])
+        .collect();
+    let border: Vec<usize> = (0..cw)
+        .flat_map(|x| [x, (ch - 1) * cw + x])
+        .chain((1..ch - 1).flat_map(|y| [y * cw, y * cw + cw - 1]))
+        .collect();
+    let mut seen = flood(&not_sky, cw, ch, border, |_, _| true);
+    // Each hole's area and bounding box (x0, y0, x1, y1) in the photo.
     let mut holes: Vec<(usize, [usize; 4])> = Vec::new();
     let mut stack: Vec<(usize, usize)> = Vec::new();
-    for start in 0..w * h {
+    for start in 0..cw * ch {
         if !not_sky[start] || seen[start] {
             continue;
         }
         seen[start] = true;
-        stack.push((start % w, start / w));
-        let (mut area, mut bbox) = (0, [w, h, 0, 0]);
+        stack.push((start % cw, start / cw));
+        let (mut area, mut bbox) = (0, [cw, ch, 0, 0]);
         while let Some((x, y)) = stack.pop() {
             area += 1;
             bbox = [
@@ -264,14 +293,15 @@ fn windows_in_sky(f: &Features, sky: &mut [bool]) {
             ];
             // Holes do not touch the border: every neighbour exists.
             for (nx, ny) in [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)] {
-                let j = ny * w + nx;
+                let j = ny * cw + nx;
                 if not_sky[j] && !seen[j] {
                     seen[j] = true;
                     stack.push((nx, ny));
                 }
             }
         }
-        holes.push((area, bbox));
+        let [a, b, c, d] = bbox;
+        holes.push((area, [a + x0, b + y0, c + x0, d + y0]));
     }
     let windows: Vec<[usize; 4]> = holes
         .into_iter()
@@ -293,26 +323,34 @@ fn windows_in_sky(f: &Features, sky: &mut [bool]) {
     };
     let overlap =
         |a: [usize; 4], b: [usize; 4]| a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3];
-    // The groups' zones, and the rims of their windows (the wall just
-    // around each window, which the fill took as sky).
+    // Windows in a group, then their zones and rims (the wall just around
+    // each window, which the fill took as sky).
+    let grouped: Vec<[usize; 4]> = windows
+        .iter()
+        .enumerate()
+        .filter(|&(i, &b)| {
+            let reach = WINDOW_PAIR * (b[2] - b[0] + 1).max(b[3] - b[1] + 1);
+            let near = grown(b, reach, reach);
+            windows
+                .iter()
+                .enumerate()
+                .any(|(j, &o)| j != i && overlap(near, o))
+        })
+        .map(|(_, &b)| b)
+        .collect();
+    if grouped.is_empty() {
+        return;
+    }
     let (mut zone, mut rims) = (vec![false; w * h], vec![false; w * h]);
     let mark = |set: &mut [bool], [x0, y0, x1, y1]: [usize; 4]| {
         for y in y0..=y1 {
             set[y * w + x0..=y * w + x1].fill(true);
         }
     };
-    for (i, &b) in windows.iter().enumerate() {
+    for b in grouped {
         let (bw, bh) = (b[2] - b[0] + 1, b[3] - b[1] + 1);
-        let reach = WINDOW_PAIR * bw.max(bh);
-        let near = grown(b, reach, reach);
-        if windows
-            .iter()
-            .enumerate()
-            .any(|(j, &o)| j != i && overlap(near, o))
-        {
-            mark(&mut zone, grown(b, WINDOW_WALL * bw, WINDOW_WALL * bh));
-            mark(&mut rims, grown(b, WINDOW_RIM, WINDOW_RIM));
-        }
+        mark(&mut zone, grown(b, WINDOW_WALL * bw, WINDOW_WALL * bh));
+        mark(&mut rims, grown(b, WINDOW_RIM, WINDOW_RIM));
     }
     let in_rims: Vec<bool> = (0..w * h)
         .into_par_iter()
@@ -724,7 +762,8 @@ mod tests {
             })
         });
         let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
-        let sky = sky(&f);
+        let mut sky = sky(&f);
+        windows_in_sky(&f, &mut sky);
         let front: Vec<usize> = (110..290)
             .flat_map(|y| (20..380).map(move |x| (x, y)))
             .filter(|&(x, y)| !window(x, y))
@@ -765,7 +804,8 @@ mod tests {
             })
         });
         let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
-        let sky = sky(&f);
+        let mut sky = sky(&f);
+        windows_in_sky(&f, &mut sky);
         let around: Vec<usize> = (110..196)
             .flat_map(|y| (150..250).map(move |x| (x, y)))
             .filter(|&(x, y)| !lamp(x, y))
