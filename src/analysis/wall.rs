@@ -219,7 +219,12 @@ fn sky(f: &Features) -> Vec<bool> {
 }
 
 /// A window is a hole in the sky (non-sky pixels all around which is sky)
-/// of at least this share of the photo's pixels, ...
+/// of at least this share of the photo's pixels, ... (the four window
+/// constants were chosen on LabelMeFacade train's classes, counting the
+/// labelled wall and sky pixels the zones would take: area 0.0002 / 0.0003
+/// / 0.0006, fill 0.6 / 0.7, one / two / three windows within 1 / 2 / 4
+/// sides, zones of 0.5 / 1 / 2 sizes; a lone window, a lamp or a sign,
+/// took sky in eight photos)
 const WINDOW_AREA: f32 = 0.0003;
 
 /// ... filling at least this share of its bounding box (compact: twigs and
@@ -231,8 +236,9 @@ const WINDOW_FILL: f32 = 0.6;
 const WINDOW_PAIR: usize = 2;
 
 /// Sky around a window of a group, within this many times its width
-/// sideways and its height up and down, may be wall (measured on
-/// LabelMeFacade train: ...).
+/// sideways and its height up and down, may be wall (on LabelMeFacade
+/// train's classes, with the clear-blue test: 1 size takes 158 k labelled
+/// wall px and 0.4 k sky px, 2 sizes 203 k and 2.9 k).
 const WINDOW_WALL: usize = 2;
 
 /// A window's rim: its bounding box grown by this many pixels.
@@ -241,9 +247,12 @@ const WINDOW_RIM: usize = 2;
 /// A pale facade the sky fill took (a white or pale blue front under a blue
 /// or white sky, its roof edge too soft to stop the fill): its windows are
 /// left as holes in the sky, compact and in groups, which a real sky does
-/// not have. The sky around such windows is wall unless it is clear blue
-/// ([`CLEAR_BLUE`]) or nearer the colour of the rest of the sky than that
-/// of the windows' rims.
+/// not have (measured on LabelMeFacade train, IoU / sky spill / wall
+/// called sky: none 0.708 / 0.057 / 0.042; the clear-blue test alone 0.722
+/// / 0.061 / 0.025; the nearer colour alone 0.718 / 0.068; both 0.720 /
+/// 0.058 / 0.029). The sky around such windows is wall unless it is
+/// clear blue ([`CLEAR_BLUE`]) or nearer the colour of the rest of the sky
+/// than that of the windows' rims.
 fn windows_in_sky(f: &Features, sky: &mut [bool]) {
     let (w, h) = (f.w, f.h);
     if w < 3 || h < 3 || !sky.contains(&true) {
