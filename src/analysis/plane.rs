@@ -83,6 +83,7 @@ pub fn settle(f: &Features, side: &Sideways, class: &mut [Class]) {
             *c = Class::Ground;
         }
     });
+    super::vehicles::in_front(f, class);
 }
 
 /// The farthest ground seen: the highest row the ground reaches in all but
