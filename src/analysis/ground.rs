@@ -124,7 +124,7 @@ fn flat_ground(f: &Features, side: &Sideways, class: &[Class], g: &mut [bool]) {
 /// The share of `part`'s luma gradient energy that runs oblique,
 /// sum 2 |gx gy| / sum (gx^2 + gy^2): 0 for edges that run level or
 /// upright, 1 for edges at 45 degrees, 2 / pi for isotropic noise.
-fn oblique(f: &Features, part: &[bool]) -> f32 {
+pub(super) fn oblique(f: &Features, part: &[bool]) -> f32 {
     let (w, h) = (f.w, f.h);
     let l = &f.luma;
     let (a, b) = (1..h.saturating_sub(1))

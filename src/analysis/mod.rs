@@ -31,6 +31,7 @@ mod plane;
 mod scale;
 pub mod shelter;
 pub mod synthetic;
+mod vehicles;
 mod wall;
 
 use std::time::Instant;

@@ -11,7 +11,9 @@
 //!   unsaturated pixels connected to the ground and below the farthest
 //!   ground seen are ground: a crossing's stripes and the road beyond
 //!   them, the far kerb, and what stands low on the road with no tall
-//!   edges (parked cars below the wall's foot).
+//!   edges (parked cars below the wall's foot);
+//! - then what is seen below the wall's foot is in front of the wall
+//!   ([`super::vehicles`]).
 
 use rayon::prelude::*;
 
@@ -83,6 +85,7 @@ pub fn settle(f: &Features, side: &Sideways, class: &mut [Class]) {
             *c = Class::Ground;
         }
     });
+    super::vehicles::in_front(f, class);
 }
 
 /// The farthest ground seen: the highest row the ground reaches in all but
