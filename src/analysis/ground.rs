@@ -317,7 +317,7 @@ fn median3(v: &mut [[f32; 3]]) -> [f32; 3] {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::analysis::wall::classify;
     use crate::photo::Photo;
@@ -415,7 +415,7 @@ mod tests {
 
     /// Share of the pixels in rows `y0..y1`, columns `x0..x1` of a
     /// `w`-wide `class` that are wall.
-    fn wall_in(
+    pub(in crate::analysis) fn wall_in(
         class: &[Class],
         w: usize,
         (x0, x1): (usize, usize),

@@ -125,7 +125,8 @@ fn median(colours: impl Iterator<Item = [f32; 3]>, c: &mut [Vec<f32>; 3]) -> Opt
 #[cfg(test)]
 mod tests {
     use crate::analysis::features::Features;
-    use crate::analysis::wall::{Class, classify};
+    use crate::analysis::ground::tests::wall_in;
+    use crate::analysis::wall::classify;
     use crate::photo::Photo;
 
     /// Share of the pixels in columns `x0..x1`, rows `y0..y1` that
@@ -157,13 +158,7 @@ mod tests {
             })
         });
         let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w);
-        let class = classify(&f);
-        let w = w as usize;
-        let walls = (y0..y1)
-            .flat_map(|y| (x0..x1).map(move |x| y * w + x))
-            .filter(|&i| class[i] == Class::Wall)
-            .count();
-        walls as f32 / ((x1 - x0) * (y1 - y0)) as f32
+        wall_in(&classify(&f), w as usize, (x0, x1), (y0, y1))
     }
 
     #[test]
