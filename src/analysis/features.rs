@@ -93,6 +93,12 @@ impl Features {
     }
 }
 
+/// How far apart two colours are: the sum of the channels' absolute
+/// differences (L1, 0..3).
+pub fn l1(a: [f32; 3], b: [f32; 3]) -> f32 {
+    (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>()
+}
+
 /// Local texture of a `w` x `h` luma plane: the mean over a box of radius
 /// `r` of its gradient magnitude (central differences, |gx| + |gy|).
 pub fn texture(luma: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {

@@ -9,7 +9,7 @@
 
 use rayon::prelude::*;
 
-use super::features::{Features, box_mean};
+use super::features::{Features, box_mean, l1};
 use super::plane::Sideways;
 use super::wall::{Class, flood};
 
@@ -39,7 +39,6 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
                 && sat < GROUND_SATURATION
         })
         .collect();
-    let l1 = |a: [f32; 3], b: [f32; 3]| (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>();
     let row = (h - 1) * w;
     let mut g = vec![false; w * h];
     let mut x = 0;
@@ -171,8 +170,7 @@ fn like_above(
     if at_cap * 3 > above.len() * 2 {
         return true;
     }
-    let (a, b) = (median3(&mut above), median3(&mut inside));
-    (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>() < LIKE_ABOVE
+    l1(median3(&mut above), median3(&mut inside)) < LIKE_ABOVE
 }
 
 /// The colour of each pixel, with thin lines (paving joints, up to 2

@@ -14,7 +14,7 @@
 //! pavement strip or the fill leaking up its lowest storey, has no cars
 //! in front of it to find.
 
-use super::features::Features;
+use super::features::{Features, l1};
 use super::wall::Class;
 
 /// The foot's line at a column is read over the columns within this share
@@ -101,8 +101,7 @@ pub(super) fn in_front(f: &Features, class: &mut [Class]) {
         };
         for y in foot[x] + 1..top[x] {
             let i = y * w + x;
-            let p = f.rgb_at(i);
-            let far = (0..3).map(|k| (p[k] - wall[k]).abs()).sum::<f32>() > UNLIKE;
+            let far = l1(f.rgb_at(i), wall) > UNLIKE;
             if class[i] == Class::Wall && far {
                 class[i] = Class::Ground;
             }

@@ -9,7 +9,7 @@ use crate::analysis::neighbours;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::features::{Features, box_mean, texture, texture_radius};
+use super::features::{Features, box_mean, l1, texture, texture_radius};
 
 /// What an analysis pixel shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -170,10 +170,7 @@ fn sky(f: &Features) -> Vec<bool> {
         .map(|i| sky_colour[i] && f.texture[i] < SKY_TEXTURE)
         .collect();
     // Sky is smooth: the fill does not cross a colour step (a roof edge).
-    let smooth_step = |i: usize, j: usize| {
-        let (a, b) = (f.rgb_at(i), f.rgb_at(j));
-        (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>() < 0.08
-    };
+    let smooth_step = |i: usize, j: usize| l1(f.rgb_at(i), f.rgb_at(j)) < 0.08;
     // Seeds: the top row, and clear blue sky in the upper half (seen
     // between branches or beside a tower, not touching the top).
     let mut seeds: Vec<usize> = (0..w).collect();
@@ -376,11 +373,10 @@ fn windows_in_sky(f: &Features, sky: &mut [bool]) {
     let outside_count = outside.par_iter().filter(|&&o| o).count();
     let wall = mean_colour(f, &in_rims, rim_count);
     let open = (outside_count > 0).then(|| mean_colour(f, &outside, outside_count));
-    let far = |p: [f32; 3], q: [f32; 3]| (0..3).map(|k| (p[k] - q[k]).abs()).sum::<f32>();
     sky.par_iter_mut().enumerate().for_each(|(i, s)| {
         if *s && zone[i] {
             let p = f.rgb_at(i);
-            *s = p[2] - p[0] > CLEAR_BLUE || open.is_some_and(|open| far(p, open) <= far(p, wall));
+            *s = p[2] - p[0] > CLEAR_BLUE || open.is_some_and(|open| l1(p, open) <= l1(p, wall));
         }
     });
 }
@@ -444,10 +440,7 @@ fn behind_branches(
         .into_par_iter()
         .map(|i| core[i] || (i < rows * w && texture[i] < SKY_TEXTURE && is_sky_colour(at(i))))
         .collect();
-    let step = |i: usize, j: usize| {
-        let (a, b) = (at(i), at(j));
-        (0..3).map(|k| (a[k] - b[k]).abs()).sum::<f32>() < 0.08
-    };
+    let step = |i: usize, j: usize| l1(at(i), at(j)) < 0.08;
     let mut seeds = rim(core, w, h);
     seeds.extend(0..w);
     let crown = grow(core.to_vec(), &cand, w, h, seeds, step);
@@ -457,10 +450,7 @@ fn behind_branches(
             .into_par_iter()
             .map(|i| {
                 let p = f.rgb_at(i);
-                i < rows * w
-                    && crown[i]
-                    && colour[i]
-                    && (0..3).map(|k| (p[k] - mean[k]).abs()).sum::<f32>() < BRANCH_MATCH
+                i < rows * w && crown[i] && colour[i] && l1(p, mean) < BRANCH_MATCH
             })
             .collect(),
     )
@@ -552,10 +542,7 @@ fn across_lines(f: &Features, core: &[bool], cand: &[bool]) -> Option<Vec<usize>
         .into_par_iter()
         .filter(|&i| {
             let c = f.rgb_at(i);
-            cand[i]
-                && !core[i]
-                && near[i] > 0.0
-                && (0..3).map(|k| (c[k] - mean[k]).abs()).sum::<f32>() < SKY_MATCH
+            cand[i] && !core[i] && near[i] > 0.0 && l1(c, mean) < SKY_MATCH
         })
         .collect();
     (!more.is_empty()).then_some(more)
