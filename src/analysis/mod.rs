@@ -30,6 +30,7 @@ mod overlay;
 mod plane;
 mod scale;
 pub mod shelter;
+mod sky_windows;
 pub mod synthetic;
 mod vehicles;
 mod wall;
