@@ -77,11 +77,14 @@ fn main() -> anyhow::Result<()> {
             let mut one = Metrics::default();
             one.add(a.as_ref(), truth);
             println!(
-                "{name}: iou {:.2} spill {:.2} sky {:.2} ({} sky px)",
+                "{name}: iou {:.2} spill {:.2} sky {:.2} ({} sky px) ledge on car {} px, ledges found {}/{}",
                 one.mean_iou(),
                 one.spill(),
                 one.sky_spill(),
-                one.sky
+                one.sky,
+                one.ledge_on[CAR as usize],
+                one.bands_found,
+                one.bands
             );
             // The storey as estimated and as labelled, photo pixels.
             if let (Some(a), Some(storey)) = (&a, truth.storey_px) {

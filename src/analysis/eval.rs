@@ -127,6 +127,11 @@ pub struct Metrics {
     pub window_glass: u64,
     /// Pixels called glass (in photos that label windows).
     pub glass_px: u64,
+    /// Length of the detected ledges (not roof lines), in photo pixel
+    /// columns, by the label under each column's drip line (index =
+    /// label, [`IGNORE`] to [`CAR`]): water started on a car, a tree or
+    /// the road is a tell.
+    pub ledge_on: [u64; 7],
     /// Sum of analysis times, ms.
     pub ms: f64,
 }
@@ -235,6 +240,9 @@ impl Metrics {
                 .count() as i64;
             2 * hit >= cols
         };
+        if let Some(labels) = &t.labels {
+            self.add_ledges_on(ledges, labels, t.width as usize);
+        }
         self.lenient_images += !t.ledge_like.is_empty() as usize;
         for l in ledges {
             if l.kind == LedgeKind::RoofLine {
@@ -256,6 +264,25 @@ impl Metrics {
             let truth = STOREY_M / storey;
             let r = a.scale.metres_per_pixel / truth;
             self.scale_ok += (1.0 / 1.5..=1.5).contains(&r) as usize;
+        }
+    }
+
+    /// Adds each ledge's columns (not roof lines') to [`Self::ledge_on`]
+    /// by the label (`labels`, `w` wide) at its drip line.
+    fn add_ledges_on(&mut self, ledges: &[super::Ledge], labels: &[u8], w: usize) {
+        let h = labels.len() / w.max(1);
+        for l in ledges.iter().filter(|l| l.kind != LedgeKind::RoofLine) {
+            for s in l.polyline.windows(2) {
+                let (p, q) = (s[0], s[1]);
+                let (x0, x1) = (p[0].max(0.0) as usize, (q[0].max(0.0) as usize).min(w));
+                for x in x0..x1 {
+                    let t = (x as f32 + 0.5 - p[0]) / (q[0] - p[0]).max(1e-3);
+                    let y = (p[1] + t * (q[1] - p[1])).round().max(0.0) as usize;
+                    if y < h {
+                        self.ledge_on[(labels[y * w + x] as usize).min(6)] += 1;
+                    }
+                }
+            }
         }
     }
 
@@ -346,6 +373,20 @@ impl Metrics {
                     self.walls
                 );
             }
+        }
+        let on: u64 = self.ledge_on.iter().sum();
+        if on > 0 {
+            let share = |l: u8| self.ledge_on[l as usize] as f64 / on as f64;
+            let _ = writeln!(
+                s,
+                "ledge px on car {:.3} ({}/{on} px; wall {:.3}, vegetation {:.3}, sky {:.3}, ground {:.3})",
+                share(CAR),
+                self.ledge_on[CAR as usize],
+                share(WALL_LABEL),
+                share(VEGETATION),
+                share(SKY),
+                share(GROUND)
+            );
         }
         if self.window_px > 0 {
             let _ = writeln!(
@@ -586,6 +627,45 @@ mod tests {
         assert_eq!(m.detections_lenient_ok, 2);
         assert_eq!(m.by_kind[LedgeKind::WindowHead as usize], (1, 0));
         assert!(m.report().contains("lenient       0.667"), "{}", m.report());
+    }
+
+    #[test]
+    fn ledges_are_measured_by_the_label_under_their_drip_line() {
+        // Wall above row 50, a car below; a ledge at row 30 (40 columns)
+        // and one at row 70 (20 columns), a roof line on the car (not
+        // counted).
+        let at = |y: f32, x1: f32, kind| Ledge {
+            kind,
+            polyline: vec![[10.0, y], [x1, y]],
+            confidence: 1.0,
+        };
+        let mut a = analysis(vec![
+            at(30.0, 50.0, LedgeKind::Sill),
+            at(70.0, 30.0, LedgeKind::WindowHead),
+            at(80.0, 90.0, LedgeKind::RoofLine),
+        ]);
+        a.classes = vec![Class::Wall; 100 * 100];
+        let t = Truth {
+            width: 100,
+            height: 100,
+            labels: Some(
+                (0..100 * 100)
+                    .map(|i| if i < 5000 { WALL_LABEL } else { CAR })
+                    .collect(),
+            ),
+            ..Truth::default()
+        };
+        let mut m = Metrics::default();
+        m.add(Some(&a), &t);
+        assert_eq!(
+            (m.ledge_on[WALL_LABEL as usize], m.ledge_on[CAR as usize]),
+            (40, 20)
+        );
+        assert!(
+            m.report().contains("ledge px on car 0.333 (20/60 px"),
+            "{}",
+            m.report()
+        );
     }
 
     #[test]

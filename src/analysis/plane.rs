@@ -44,7 +44,7 @@ const FLAT_FROM: f32 = 0.6;
 /// photos have 0.74 or more; CMP's rectified facades, whose "ground" is
 /// mostly a pavement strip or the fill leaking up a plinth: a quarter have
 /// 0.27 or more).
-const STREET: f32 = 0.5;
+pub(super) const STREET: f32 = 0.5;
 
 /// The grid the structure tensor is summed on is at most this long.
 const GRID: usize = 256;

@@ -56,19 +56,8 @@ const PERSPECTIVE: f32 = 0.35;
 /// documentation), in `class`, whose ground is found.
 pub(super) fn in_front(f: &Features, class: &mut [Class]) {
     let (w, h) = (f.w, f.h);
-    // The top of the ground run that rises from the bottom row, per column
-    // (h: no ground at the bottom).
-    let top: Vec<usize> = (0..w)
-        .map(|x| {
-            let mut y = h;
-            while y > 0 && class[(y - 1) * w + x] == Class::Ground {
-                y -= 1;
-            }
-            y
-        })
-        .collect();
-    let ground: Vec<bool> = class.iter().map(|&c| c == Class::Ground).collect();
-    if super::ground::oblique(f, &ground) < PERSPECTIVE {
+    let top = ground_top(class, w, h);
+    if !in_perspective(f, class) {
         return;
     }
     let r = (w as f32 * REACH) as usize;
@@ -107,6 +96,38 @@ pub(super) fn in_front(f: &Features, class: &mut [Class]) {
             }
         }
     }
+}
+
+/// Per column, the top of the ground run that rises from the bottom row
+/// (`h`: no ground at the bottom).
+fn ground_top(class: &[Class], w: usize, h: usize) -> Vec<usize> {
+    (0..w)
+        .map(|x| {
+            let mut y = h;
+            while y > 0 && class[(y - 1) * w + x] == Class::Ground {
+                y -= 1;
+            }
+            y
+        })
+        .collect()
+}
+
+/// True when the ground is seen in perspective (see [`PERSPECTIVE`]).
+fn in_perspective(f: &Features, class: &[Class]) -> bool {
+    let ground: Vec<bool> = class.iter().map(|&c| c == Class::Ground).collect();
+    super::ground::oblique(f, &ground) >= PERSPECTIVE
+}
+
+/// In a street scene seen in perspective (the ground covers
+/// [`super::plane::STREET`] of the bottom fifth, and [`in_perspective`]),
+/// per column the top of the ground run that rises from the bottom row
+/// (`h`: none), where parked cars stand; `None` elsewhere.
+pub(super) fn street_top(f: &Features, class: &[Class]) -> Option<Vec<usize>> {
+    let (w, h) = (f.w, f.h);
+    let bottom = &class[h * 4 / 5 * w..];
+    let ground = bottom.iter().filter(|&&c| c == Class::Ground).count();
+    let street = ground as f32 >= super::plane::STREET * bottom.len() as f32;
+    (street && in_perspective(f, class)).then(|| ground_top(class, w, h))
 }
 
 /// Per-channel median of `colours` (None when there are none), `c` the
