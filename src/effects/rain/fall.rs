@@ -275,7 +275,7 @@ mod tests {
 
     #[test]
     fn a_lower_source_restarts_the_fall() {
-        let lines = vec![
+        let lines = [
             vec![(0.0, 5.0), (10.0, 5.0)],
             vec![(0.0, 40.0), (10.0, 40.0)],
         ];

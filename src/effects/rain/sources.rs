@@ -67,8 +67,9 @@ pub struct Warp {
     /// Position (0..len) at each of `len + 1` evenly spaced CDF values.
     inverse: Vec<f32>,
     /// Per grid pixel along the source: the water leaving there, as the
-    /// length of ledge its release point drains over the drip spacing (1 =
-    /// a drip's fair share of a level ledge), spread over a streak's width.
+    /// length of ledge its release point drains over the drip spacing or
+    /// the ledge's length if shorter (1 = a drip's fair share of a level
+    /// ledge), spread over a streak's width.
     water: Vec<f32>,
     /// Per grid pixel along the source: how far below the ledge its water
     /// meets the wall, 0..1 of the onset length (smooth noise).
@@ -114,10 +115,12 @@ impl Warp {
             .map(|i| (FLOOR / len + (1.0 - FLOOR) * mix(i as f32, width)) as f64)
             .collect();
         // A point of share w drains w * len of ledge; its peak in the
-        // spread mixture is w / (spread * sqrt(2 pi)).
+        // spread mixture is w / (spread * sqrt(2 pi)). A fair share is the
+        // spacing, or the whole ledge when it is shorter.
         let spread = WATER_SPREAD * width;
+        let fair = r.spacing.min(len);
         let water = (0..n)
-            .map(|i| mix(i as f32, spread) * spread * 2.506_628 * len / r.spacing)
+            .map(|i| mix(i as f32, spread) * spread * 2.506_628 * len / fair)
             .collect();
         let knot = ONSET_KNOTS * width;
         let knots: Vec<f32> = (0..=(len / knot).ceil() as usize + 1)
