@@ -96,16 +96,16 @@ fn a_band_of_streaks_has_soft_sides_unequal_lengths_and_a_broken_top() {
 
     // 1. The sides: the largest step of the column means between
     // neighbouring columns more than 0.15 m past the ledge's ends, relative
-    // to the band's mean (main at 1ac5f89: 0.45, a straight side where the
-    // fade stopped; measured 0.08).
+    // to the band's mean (main at 1ac5f89: 0.31, a straight side where the
+    // fade stopped; now 0.05).
     let side = (0..W as usize - 1)
         .filter(|&x| x + 15 < ENDS.0 as usize || x > ENDS.1 as usize + 15)
         .map(|x| (p[x + 1] - p[x]).abs())
         .fold(0.0, f32::max);
 
     // 2. The lengths: per streak, the rows with at least a fifth of its
-    // darkest ink; their coefficient of variation (main: 0.08, a comb of
-    // equal streaks; measured 0.26).
+    // darkest ink; their coefficient of variation (main: 0.03, a comb of
+    // equal streaks; now 0.22).
     let found = streaks(&p);
     assert!(found.len() >= 4, "streaks at {found:?}");
     let lengths: Vec<f32> = found
@@ -121,8 +121,8 @@ fn a_band_of_streaks_has_soft_sides_unequal_lengths_and_a_broken_top() {
         (lengths.iter().map(|l| (l - mean).powi(2)).sum::<f32>() / lengths.len() as f32).sqrt();
 
     // 3. The tops: the ink on the row under the ledge relative to its
-    // streak's darkest (main: 0.96, every streak starting dark on the
-    // ledge's line; measured under 0.2).
+    // streak's darkest (main: 0.85, every streak starting dark on the
+    // ledge's line; now 0.02).
     let onset: Vec<f32> = found
         .iter()
         .map(|&x| {

@@ -46,9 +46,9 @@ const FLOOR: f32 = 0.04;
 /// Standard deviation of a drip point's log water share [choice: 0.9, a
 /// coefficient of variation of 1.5; with the uniform 0.3..1 of before, the
 /// drips under a string course held nearly equal water and left a comb of
-/// equal streaks (blind review 13); measured on the one-ledge wall of
-/// `tests::streaks_under_a_ledge_differ_in_length`: the streaks' length
-/// CV rises from 0.04 to 0.3].
+/// equal streaks (blind review 13); with it and the streak lengths of
+/// `fall.rs`, the streak lengths' CV under the long ledge of
+/// `tests/streaks.rs` rose from 0.03 to 0.22].
 const DRIP_SPREAD: f32 = 0.9;
 
 /// How far the water is spread for [`Warp::water`], in release widths: a
