@@ -218,7 +218,8 @@ pub struct RainParams {
     /// Width of a release point (a streak's width at its top), metres.
     pub release_width_m: f32,
     /// Fall over which a streak's darkness fades (to a tenth), metres;
-    /// 0 = no fading.
+    /// 0 = no fading. Under drip points it follows each point's water,
+    /// from a third to 4/3 of this (`effects::rain::fall`).
     pub fall_m: f32,
 }
 

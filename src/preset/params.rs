@@ -278,7 +278,7 @@ pub(super) const CORE: &[ParamSpec] = &[
     p(
         "rain.drip_spacing_m",
         "",
-        "Mean spacing of the drip points along a ledge, metres; water gathers and leaves there, so streaks stand apart (0 = uniform, Chang's own)",
+        "Mean spacing of the drip points along a ledge, metres; water gathers and leaves there, unequally, so streaks stand apart and differ in strength and length (0 = uniform, Chang's own)",
         0.0,
         100.0,
     ),
@@ -299,7 +299,7 @@ pub(super) const CORE: &[ParamSpec] = &[
     p(
         "rain.fall_m",
         "",
-        "Fall below a ledge over which a streak fades to a tenth of its darkness, metres (0 = no fading)",
+        "Fall below a ledge over which a streak fades to a tenth of its darkness, metres (0 = no fading); under drip points, a third to 4/3 of it, longer where a drip gathers more water",
         0.0,
         100.0,
     ),

@@ -8,88 +8,237 @@
 //! multiplied by `exp(-ln 10 (d / fall)^2)`, where d is the distance below
 //! the nearest source above in the same column: a tenth of its darkness at
 //! `fall`, none above the highest source.
+//!
+//! [choice, beyond the uniform fall:] a streak's length follows its water
+//! (`how-facades-age.md`: "a tall bare wall below a cornice shows long,
+//! regular streaks; a wall with sills every storey shows short streaks"):
+//! under a ledge releasing at points ([`Warp`]), a column's fall is `fall`
+//! times the water leaving above it (in ledge drained per drip spacing,
+//! times the ledge's catch: a rivulet runs until the wall has soaked up
+//! its water, so its length grows with its flow), within [`SHORTEST`]..
+//! [`LONGEST`]: the spec's 0.5 to 2 m at the default 1.5 m. Its streak
+//! begins where its water meets the wall, `onset` times the warp's onset
+//! noise below the ledge, and darkens over another `onset` (smoothstep), so
+//! the streaks' tops are not one straight line. Past a ledge's ends the
+//! fade dies out as a Gaussian of width `reach` instead of stopping at a
+//! column, so a band of streaks has no straight side.
 
 use rayon::prelude::*;
 
+use super::sources::Warp;
 use crate::field::RowMajor;
 
 /// ln 10: the fade reaches a tenth at the fall length.
 const LN_10: f32 = std::f32::consts::LN_10;
 
-/// The fade map on a `width` x `height` grid for source polylines (grid
-/// coordinates) and, optionally, a top-edge row per column; each source
-/// reaches `reach` columns past its ends (water runs off a ledge's ends).
-/// `fall` <= 0 gives 1 everywhere below a source.
+/// Shortest fall, as a share of `fall` [choice: with `LONGEST`, the spec's
+/// 0.5..2 m at the default 1.5 m].
+pub const SHORTEST: f32 = 0.33;
+
+/// Longest fall, as a share of `fall`.
+pub const LONGEST: f32 = 1.33;
+
+/// How many `reach`es past its ends a ledge's fade is computed: the
+/// Gaussian side is below 4e-4 there.
+const SIDE_REACHES: f32 = 4.0;
+
+/// A source line for [`fade`].
+#[derive(Debug, Clone, Copy)]
+pub struct Ledge<'a> {
+    /// The polyline, grid coordinates.
+    pub line: &'a [(f32, f32)],
+    /// Where it releases its water; `None` = uniform (a full-length fall
+    /// from the line itself).
+    pub warp: Option<&'a Warp>,
+    /// The share of the rain it catches (1 in the open).
+    pub catch: f32,
+}
+
+/// One source above a column: where and how its streaks start and fade.
+#[derive(Debug, Clone, Copy)]
+struct Top {
+    row: f32,
+    /// Fall length here, grid pixels.
+    fall: f32,
+    /// 1 within the ledge's span, a Gaussian past its ends.
+    side: f32,
+    /// Where the streak begins below the row, and over how far it darkens.
+    start: f32,
+    ramp: f32,
+}
+
+impl Top {
+    /// How far the streak has begun `d` pixels below the source, 0..1.
+    fn onset(&self, d: f32) -> f32 {
+        if self.ramp > 0.0 {
+            let t = ((d - self.start) / self.ramp).clamp(0.0, 1.0);
+            t * t * (3.0 - 2.0 * t)
+        } else {
+            1.0
+        }
+    }
+
+    /// The fade `d` pixels below the source, and how far down its fall
+    /// that is (0..1).
+    fn at(&self, d: f32) -> (f32, f32) {
+        let onset = self.onset(d);
+        let (fall, depth) = if self.fall > 0.0 {
+            let t = d / self.fall;
+            ((-LN_10 * t * t).exp(), t.min(1.0))
+        } else {
+            (1.0, 0.0)
+        };
+        (self.side * onset * fall, depth)
+    }
+}
+
+/// Where streaks show below their sources ([`fade`]).
+#[derive(Debug, Clone)]
+pub struct Fall {
+    /// How much of the stain shows, 0..1.
+    pub fade: RowMajor<f32>,
+    /// How far down its fall each pixel lies, 0..1 (1 at or past the
+    /// fall length): how much a streak has widened there.
+    pub depth: RowMajor<f32>,
+}
+
+/// The fade map on a `width` x `height` grid for source ledges and,
+/// optionally, a top-edge row per column; each ledge's fade dies out past
+/// its ends over `reach` columns (water runs off a ledge's ends), and its
+/// streaks begin `onset` pixels or so below it. `fall` <= 0 gives 1
+/// everywhere below a source.
 pub fn fade(
     width: usize,
     height: usize,
-    lines: &[Vec<(f32, f32)>],
+    ledges: &[Ledge],
     top_edge: Option<&[Option<usize>]>,
     fall: f32,
     reach: f32,
-) -> RowMajor<f32> {
-    // Per column, the rows of the sources crossing it.
-    let mut rows: Vec<Vec<f32>> = vec![Vec::new(); width];
-    for line in lines.iter().filter(|l| !l.is_empty()) {
-        let mut line: Vec<[f32; 2]> = line.iter().map(|&(x, y)| [x, y]).collect();
+    onset: f32,
+) -> Fall {
+    // Per column, the sources crossing it or reaching it.
+    let mut columns: Vec<Vec<Top>> = vec![Vec::new(); width];
+    for ledge in ledges.iter().filter(|l| !l.line.is_empty()) {
+        let mut line: Vec<[f32; 2]> = ledge.line.iter().map(|&(x, y)| [x, y]).collect();
         line.sort_by(|a, b| a[0].total_cmp(&b[0]));
-        let x_lo = line[0][0] - reach;
-        let x_hi = line[line.len() - 1][0] + reach;
-        let first = x_lo.floor().max(0.0) as usize;
-        let last = (x_hi.ceil().max(0.0) as usize).min(width.saturating_sub(1));
-        for (x, column) in rows.iter_mut().enumerate().take(last + 1).skip(first) {
-            column.push(row_at(&line, x as f32 + 0.5));
+        let (x_lo, x_hi) = (line[0][0], line[line.len() - 1][0]);
+        let first = (x_lo - SIDE_REACHES * reach).floor().max(0.0) as usize;
+        let last =
+            ((x_hi + SIDE_REACHES * reach).ceil().max(0.0) as usize).min(width.saturating_sub(1));
+        for (x, column) in columns.iter_mut().enumerate().take(last + 1).skip(first) {
+            let x = x as f32 + 0.5;
+            let past = (x_lo - x).max(x - x_hi).max(0.0);
+            let side = match (past > 0.0, reach > 0.0) {
+                (false, _) => 1.0,
+                (true, true) => (-0.5 * (past / reach).powi(2)).exp(),
+                (true, false) => 0.0,
+            };
+            let mut top = Top {
+                row: row_at(&line, x),
+                fall,
+                side,
+                start: 0.0,
+                ramp: 0.0,
+            };
+            if let Some(warp) = ledge.warp {
+                let u = arc_at(ledge.line, x);
+                let water = warp.water(u) * ledge.catch.max(0.0);
+                top.fall = fall * water.clamp(SHORTEST, LONGEST);
+                top.start = onset * warp.onset(u);
+                top.ramp = onset;
+            }
+            column.push(top);
         }
     }
     if let Some(edge) = top_edge {
-        for (column, row) in rows.iter_mut().zip(edge) {
+        for (column, row) in columns.iter_mut().zip(edge) {
             if let Some(y) = row {
-                column.push(*y as f32);
+                column.push(Top {
+                    row: *y as f32,
+                    fall,
+                    side: 1.0,
+                    start: 0.0,
+                    ramp: 0.0,
+                });
             }
         }
     }
-    rows.iter_mut()
-        .for_each(|c| c.sort_by(|a, b| a.total_cmp(b)));
-    let mut out = RowMajor::filled(width, height, 0.0);
-    out.data_mut()
+    columns
+        .iter_mut()
+        .for_each(|c| c.sort_by(|a, b| a.row.total_cmp(&b.row)));
+    let mut fade = RowMajor::filled(width, height, 0.0);
+    let mut depth = RowMajor::filled(width, height, 0.0);
+    fade.data_mut()
         .par_chunks_mut(width.max(1))
+        .zip(depth.data_mut().par_chunks_mut(width.max(1)))
         .enumerate()
-        .for_each(|(y, line)| {
+        .for_each(|(y, (fades, depths))| {
             let y = y as f32 + 0.5;
-            for (v, sources) in line.iter_mut().zip(&rows) {
-                let above = sources.partition_point(|&s| s <= y);
-                if above == 0 {
-                    continue;
+            for ((v, t), sources) in fades.iter_mut().zip(depths).zip(&columns) {
+                // The nearest source above takes the water; past its ends
+                // (side < 1) and above its streaks' onset, the sources
+                // above it show through the rest (no clean line under a
+                // ledge that lies in another's streaks).
+                let above = sources.partition_point(|s| s.row <= y);
+                let mut through = 1.0;
+                for s in sources[..above].iter().rev() {
+                    let d = y - s.row;
+                    let (value, depth) = s.at(d);
+                    if through * value > *v {
+                        (*v, *t) = (through * value, depth);
+                    }
+                    through *= 1.0 - s.side * s.onset(d);
+                    if through <= 0.0 {
+                        break;
+                    }
                 }
-                let d = y - sources[above - 1];
-                *v = if fall > 0.0 {
-                    (-LN_10 * (d / fall).powi(2)).exp()
-                } else {
-                    1.0
-                };
             }
         });
-    out
+    Fall { fade, depth }
 }
 
 /// Streaks widen and fade as they fall: `narrow` becomes `narrow` near
 /// its source, blending into `wide` (the same stain blurred more) at the
 /// fall length, times the fade.
-pub fn widen(narrow: &mut RowMajor<f32>, wide: &RowMajor<f32>, fade: &RowMajor<f32>) {
+pub fn widen(narrow: &mut RowMajor<f32>, wide: &RowMajor<f32>, fall: &Fall) {
     narrow
         .data_mut()
         .par_iter_mut()
         .zip(wide.data())
-        .zip(fade.data())
-        .for_each(|((n, w), f)| {
+        .zip(fall.fade.data().par_iter().zip(fall.depth.data()))
+        .for_each(|((n, w), (f, t))| {
             if *f <= 0.0 {
                 *n = 0.0;
                 return;
             }
-            // How far down the fall: d / fall from f = exp(-ln 10 (d/fall)^2).
-            let t = (-f.ln() / LN_10).max(0.0).sqrt().min(1.0);
             *n = (*n + (*w - *n) * t) * f;
         });
+}
+
+/// The arc length (from its first vertex, in its own order) of the point
+/// of polyline `pts` at column `x`; past its ends, the nearer end's.
+fn arc_at(pts: &[(f32, f32)], x: f32) -> f32 {
+    let mut arc = 0.0;
+    for pair in pts.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        let seg = (b.0 - a.0).hypot(b.1 - a.1);
+        let (lo, hi) = (a.0.min(b.0), a.0.max(b.0));
+        if x >= lo && x <= hi {
+            let t = if hi > lo {
+                (x - a.0) / (b.0 - a.0)
+            } else {
+                0.0
+            };
+            return arc + seg * t;
+        }
+        arc += seg;
+    }
+    let (first, last) = (pts[0].0, pts[pts.len() - 1].0);
+    if (x - first).abs() <= (x - last).abs() {
+        0.0
+    } else {
+        arc
+    }
 }
 
 /// The row at column `x` of a polyline sorted by x, clamped to its ends.
@@ -105,24 +254,33 @@ fn row_at(pts: &[[f32; 2]], x: f32) -> f32 {
 mod tests {
     use super::*;
 
+    fn uniform(line: &[(f32, f32)]) -> Ledge<'_> {
+        Ledge {
+            line,
+            warp: None,
+            catch: 1.0,
+        }
+    }
+
     #[test]
     fn nothing_above_the_source_and_a_tenth_at_the_fall() {
         let line = vec![(2.0, 10.0), (8.0, 10.0)];
-        let f = fade(12, 60, &[line], None, 20.0, 1.0);
+        let f = fade(12, 60, &[uniform(&line)], None, 20.0, 1.0, 0.0).fade;
         assert_eq!(f.get(5, 5), 0.0, "above the ledge");
         assert!(f.get(5, 10) > 0.99, "just below it");
         assert!((f.get(5, 30) - 0.1).abs() < 0.02, "{}", f.get(5, 30));
-        assert_eq!(f.get(11, 30), 0.0, "beside the ledge, past its reach");
+        assert!(f.get(11, 30) < 1e-3, "beside the ledge, past its reach");
         assert!(f.get(8, 30) > 0.05, "within the reach of its end");
     }
 
     #[test]
     fn a_lower_source_restarts_the_fall() {
-        let lines = vec![
+        let lines = [
             vec![(0.0, 5.0), (10.0, 5.0)],
             vec![(0.0, 40.0), (10.0, 40.0)],
         ];
-        let f = fade(10, 60, &lines, None, 10.0, 0.0);
+        let ledges: Vec<_> = lines.iter().map(|l| uniform(l)).collect();
+        let f = fade(10, 60, &ledges, None, 10.0, 0.0, 0.0).fade;
         assert!(f.get(4, 35) < 0.01);
         assert!(f.get(4, 41) > 0.9, "{}", f.get(4, 41));
     }
@@ -130,7 +288,7 @@ mod tests {
     #[test]
     fn the_top_edge_is_a_source_per_column() {
         let edge = vec![Some(3), None];
-        let f = fade(2, 10, &[], Some(&edge), 0.0, 0.0);
+        let f = fade(2, 10, &[], Some(&edge), 0.0, 0.0, 0.0).fade;
         assert_eq!(f.get(0, 2), 0.0);
         assert_eq!(f.get(0, 5), 1.0);
         assert_eq!(f.get(1, 5), 0.0);

@@ -15,7 +15,7 @@ use rand::Rng as _;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::effects::{Effect, patches};
+use crate::effects::patches;
 use crate::error::{Error, Result};
 use crate::field::{ColumnMajor, RowMajor};
 use crate::preset::RainParams;
@@ -114,10 +114,6 @@ pub fn droplet_count(p: &RainParams, width: usize) -> u32 {
     }
     ((p.droplets as f64 * width as f64 / p.reference_width as f64).round() as u32).max(1)
 }
-
-/// The rain's own stream (with [`Effect::Rain`]) for each source's drip
-/// points.
-const RELEASE: u16 = 1;
 
 /// Half a patch's width, in grid columns, for [`patches::run`].
 const BAND: usize = 64;
@@ -245,21 +241,20 @@ pub fn simulate_keeping(
         }
     }
     for line in &input.source_lines {
-        let padded: Vec<_> = line.iter().map(|&(x, y)| (x + 1.0, y + 1.0)).collect();
-        sources.push(Source::line(padded));
+        sources.push(Source::line(padded(line)));
     }
-    let warps = sources
-        .iter()
-        .enumerate()
-        .map(|(i, s)| {
-            let mut rng = random::rng(seed, (Effect::Rain, RELEASE), i as u64, 0);
-            Warp::new(s.length(), &input.release, &mut rng)
-        })
-        .collect();
     // [choice, beyond Chang:] a source catches rain in proportion to its
     // length times how open it is, so droplets start less often on a
     // ledge under a balcony or an eave.
     let top = usize::from(p.top_edge && sources.len() > input.source_lines.len());
+    let warps = sources
+        .iter()
+        .enumerate()
+        .map(|(i, s)| match i.checked_sub(top) {
+            Some(line) => sources::line_warp(seed, line, s.length(), &input.release),
+            None => sources::top_warp(seed, s.length(), &input.release),
+        })
+        .collect();
     let spans: Vec<f32> = sources
         .iter()
         .enumerate()
@@ -465,6 +460,11 @@ impl LayerStats {
             _ => {}
         }
     }
+}
+
+/// A source line (grid coordinates) on the padded grid the rain runs on.
+pub fn padded(line: &[(f32, f32)]) -> Vec<(f32, f32)> {
+    line.iter().map(|&(x, y)| (x + 1.0, y + 1.0)).collect()
 }
 
 /// Where droplets come from: the sources and the draws that start them.

@@ -11,6 +11,13 @@
 //! uniform floor; Chang's start position u (eqs. 16-17 walk it between
 //! rainfalls) is mapped through the density's inverse CDF, so droplets
 //! that start near each other stay in the same streak.
+//!
+//! [choice:] how much water a drip point gathers differs a lot along a real
+//! ledge (it is never level: low points drain long stretches), so a drip's
+//! share is log-normal ([`DRIP_SPREAD`]), and the [`Warp`] also tabulates
+//! each point's water in metres of ledge drained per drip spacing
+//! ([`Warp::water`]), which sets its streak's length (`fall.rs`), and where
+//! the water meets the wall below the ledge ([`Warp::onset`]).
 
 /// How a ledge releases its water, in grid pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -36,13 +43,37 @@ impl Release {
 /// Share of the water released uniformly along a source (diffuse run-off).
 const FLOOR: f32 = 0.04;
 
+/// Standard deviation of a drip point's log water share [choice: 0.9, a
+/// coefficient of variation of 1.5; with the uniform 0.3..1 of before, the
+/// drips under a string course held nearly equal water and left a comb of
+/// equal streaks (blind review 13); with it and the streak lengths of
+/// `fall.rs`, the streak lengths' CV under the long ledge of
+/// `tests/streaks.rs` rose from 0.03 to 0.22].
+const DRIP_SPREAD: f32 = 0.9;
+
+/// How far the water is spread for [`Warp::water`], in release widths: a
+/// streak's water is the same across its width.
+const WATER_SPREAD: f32 = 3.0;
+
+/// Spacing of the onset's knots along a ledge, in release widths: where
+/// drips meet the wall changes over a few streak widths.
+const ONSET_KNOTS: f32 = 4.0;
+
 /// The inverse CDF of a source's release density, tabulated per grid pixel
 /// of its length: `at(u)` maps a uniform position in `0..len` to where the
-/// droplet leaves.
+/// droplet leaves; with each position's water and onset.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Warp {
     /// Position (0..len) at each of `len + 1` evenly spaced CDF values.
     inverse: Vec<f32>,
+    /// Per grid pixel along the source: the water leaving there, as the
+    /// length of ledge its release point drains over the drip spacing or
+    /// the ledge's length if shorter (1 = a drip's fair share of a level
+    /// ledge), spread over a streak's width.
+    water: Vec<f32>,
+    /// Per grid pixel along the source: how far below the ledge its water
+    /// meets the wall, 0..1 of the onset length (smooth noise).
+    onset: Vec<f32>,
 }
 
 impl Warp {
@@ -58,7 +89,8 @@ impl Warp {
         let mut drips = Vec::new();
         let mut x = r.spacing * rng.random_range(0.2..1.0);
         while x < len - 0.2 * r.spacing {
-            drips.push((x, rng.random_range(0.3..1.0f32)));
+            let (z, _) = crate::random::box_muller(rng);
+            drips.push((x, (DRIP_SPREAD * z).exp()));
             x += r.spacing * rng.random_range(0.5..1.5);
         }
         let drip_total: f32 = drips.iter().map(|d| d.1).sum();
@@ -70,17 +102,37 @@ impl Warp {
             points.iter_mut().for_each(|p| p.1 = 0.5);
         }
         let width = r.width.max(0.5);
+        let mix = |u: f32, width: f32| -> f32 {
+            points
+                .iter()
+                .map(|&(c, w)| {
+                    let z = (u - c) / width;
+                    w * (-0.5 * z * z).exp() / (width * 2.506_628)
+                })
+                .sum()
+        };
         let density: Vec<f64> = (0..n)
+            .map(|i| (FLOOR / len + (1.0 - FLOOR) * mix(i as f32, width)) as f64)
+            .collect();
+        // A point of share w drains w * len of ledge; its peak in the
+        // spread mixture is w / (spread * sqrt(2 pi)). A fair share is the
+        // spacing, or the whole ledge when it is shorter.
+        let spread = WATER_SPREAD * width;
+        let fair = r.spacing.min(len);
+        let water = (0..n)
+            .map(|i| mix(i as f32, spread) * spread * 2.506_628 * len / fair)
+            .collect();
+        let knot = ONSET_KNOTS * width;
+        let knots: Vec<f32> = (0..=(len / knot).ceil() as usize + 1)
+            .map(|_| rng.random())
+            .collect();
+        let onset = (0..n)
             .map(|i| {
-                let u = i as f32;
-                let peaks: f32 = points
-                    .iter()
-                    .map(|&(c, w)| {
-                        let z = (u - c) / width;
-                        w * (-0.5 * z * z).exp() / (width * 2.506_628)
-                    })
-                    .sum();
-                (FLOOR / len + (1.0 - FLOOR) * peaks) as f64
+                let g = i as f32 / knot;
+                let k = (g as usize).min(knots.len() - 2);
+                let t = (g - k as f32).clamp(0.0, 1.0);
+                let t = t * t * (3.0 - 2.0 * t);
+                knots[k] + (knots[k + 1] - knots[k]) * t
             })
             .collect();
         let mut cdf = Vec::with_capacity(n);
@@ -98,7 +150,11 @@ impl Warp {
                 ((i as f64 - 0.5 + t) as f32).clamp(0.0, len)
             })
             .collect();
-        Some(Warp { inverse })
+        Some(Warp {
+            inverse,
+            water,
+            onset,
+        })
     }
 
     /// Where a droplet at uniform position `u` (0..len) leaves the source.
@@ -109,7 +165,47 @@ impl Warp {
         let t = g - i as f32;
         self.inverse[i] + (self.inverse[i + 1] - self.inverse[i]) * t
     }
+
+    /// The water leaving at arc length `u` (see [`Warp::water`]'s field).
+    pub fn water(&self, u: f32) -> f32 {
+        sample(&self.water, u)
+    }
+
+    /// Where the water leaving at arc length `u` meets the wall, 0..1 of
+    /// the onset length.
+    pub fn onset(&self, u: f32) -> f32 {
+        sample(&self.onset, u)
+    }
 }
+
+/// `table` (one value per grid pixel) at `u`, clamped to its ends.
+fn sample(table: &[f32], u: f32) -> f32 {
+    let i = (u.max(0.0).round() as usize).min(table.len() - 1);
+    table[i]
+}
+
+/// The warp of source line `line` (0 = the first of the preset's lines)
+/// `len` grid pixels long, from the rain's own stream: the simulation and
+/// the stain draw the same drip points.
+pub fn line_warp(seed: u64, line: usize, len: f32, release: &Release) -> Option<Warp> {
+    let mut rng = crate::random::rng(
+        seed,
+        (crate::effects::Effect::Rain, RELEASE),
+        line as u64 + 1,
+        0,
+    );
+    Warp::new(len, release, &mut rng)
+}
+
+/// The warp of the region's top edge.
+pub fn top_warp(seed: u64, len: f32, release: &Release) -> Option<Warp> {
+    let mut rng = crate::random::rng(seed, (crate::effects::Effect::Rain, RELEASE), 0, 0);
+    Warp::new(len, release, &mut rng)
+}
+
+/// The rain's own stream (with `Effect::Rain`) for each source's drip
+/// points.
+const RELEASE: u16 = 1;
 
 /// One water source on the padded grid.
 #[derive(Debug, Clone)]
