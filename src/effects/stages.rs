@@ -78,7 +78,7 @@ pub(super) fn rain(
         progress.update("stain", 0.87 + 0.13 * i as f32 / out.layers.len() as f32);
         let pixels = LayerPixels::Tint {
             color: preset.stain.color,
-            alpha: stainer.alpha(&rl.deposit, d_max),
+            alpha: stainer.rainfall(&rl.deposit, d_max),
         };
         let name = format!("rain {:02}", i + 1);
         layers.push(layer(
@@ -146,6 +146,8 @@ struct Stainer<'a> {
     wider: Option<f32>,
     coverage: rain::stain::Coverage,
     widened: rain::stain::Coverage,
+    /// The film the rainfalls so far laid.
+    film: rain::stain::Film,
 }
 
 impl<'a> Stainer<'a> {
@@ -192,11 +194,19 @@ impl<'a> Stainer<'a> {
             wider: (r.fall_m > 0.0).then_some(blur + 2.0 * release.width),
             coverage: rain::stain::Coverage::new(grid.width, grid.height),
             widened: rain::stain::Coverage::new(grid.width, grid.height),
+            film: rain::stain::Film::new(grid.width, grid.height),
         }
     }
 
-    /// The alpha of `values` measured against `max`.
-    fn alpha(&mut self, values: &ColumnMajor<f32>, max: f32) -> GrayImage {
+    /// The alpha of the next rainfall's layer, from its `deposit` measured
+    /// against `d_max`, laid on the film of the rainfalls before it.
+    fn rainfall(&mut self, deposit: &ColumnMajor<f32>, d_max: f32) -> GrayImage {
+        self.alpha(deposit, d_max, true)
+    }
+
+    /// The alpha of `values` measured against `max`, laid on the rain's
+    /// film when `film`.
+    fn alpha(&mut self, values: &ColumnMajor<f32>, max: f32, film: bool) -> GrayImage {
         let stain = &self.preset.stain;
         let cover = self.coverage.of(values, max, stain, self.blur);
         match self.wider {
@@ -210,6 +220,9 @@ impl<'a> Stainer<'a> {
                 .par_iter_mut()
                 .zip(self.fall.fade.data())
                 .for_each(|(c, f)| *c *= f),
+        }
+        if film {
+            self.film.lay(cover);
         }
         let (w, h) = self.ctx.size();
         self.ctx.grid.upsample(cover, self.ctx.mask, w, h)
@@ -225,7 +238,7 @@ impl<'a> Stainer<'a> {
         let max = rain::stain::w_max(washed, self.preset.stain.percentile);
         let pixels = LayerPixels::Tint {
             color: self.preset.stain.washed_color,
-            alpha: self.alpha(washed, max),
+            alpha: self.alpha(washed, max, false),
         };
         layer(
             Effect::Rain,
