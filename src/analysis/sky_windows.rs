@@ -178,6 +178,7 @@ pub(super) fn windows_in_sky(f: &Features, sky: &mut [bool]) {
 mod tests {
     use super::*;
     use crate::analysis::wall::sky;
+    use crate::analysis::wall::tests::brick;
     use crate::photo::Photo;
 
     #[test]
@@ -229,11 +230,7 @@ mod tests {
             let t = y.min(200) as f32 / 200.0;
             let sky = [170.0 + 45.0 * t, 190.0 + 32.0 * t, 230.0 + 2.0 * t].map(|v| v as u8);
             image::Rgb(if y >= 200 {
-                if y % 9 == 0 {
-                    [120, 80, 70]
-                } else {
-                    [170, 100, 80]
-                }
+                brick(y)
             } else if lamp(x, y) {
                 [40, 40, 45]
             } else {

@@ -445,9 +445,18 @@ const BRANCHES: f32 = 0.45;
 const BRANCHES_MIN_SIDE: usize = 200;
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::photo::Photo;
+
+    /// A brick wall's colour at row `y`: a mortar course every 9 rows.
+    pub(in crate::analysis) fn brick(y: u32) -> [u8; 3] {
+        if y.is_multiple_of(9) {
+            [120, 80, 70]
+        } else {
+            [170, 100, 80]
+        }
+    }
 
     #[test]
     fn bare_branches_against_the_sky_are_not_wall() {
@@ -511,11 +520,7 @@ mod tests {
         let twig = |x: u32, y: u32| x >= 150 && y < 130 && (x + y / 3).is_multiple_of(5);
         let img = image::RgbImage::from_fn(w, h, |x, y| {
             image::Rgb(if y >= 150 {
-                if y % 9 == 0 {
-                    [120, 80, 70]
-                } else {
-                    [170, 100, 80]
-                }
+                brick(y)
             } else if twig(x, y) {
                 [60, 50, 45]
             } else {
