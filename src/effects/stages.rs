@@ -148,6 +148,8 @@ struct Stainer<'a> {
     widened: rain::stain::Coverage,
     /// The film the rainfalls so far laid.
     film: rain::stain::Film,
+    /// How runs wander and thread on this wall.
+    wander: rain::wander::Wander,
 }
 
 impl<'a> Stainer<'a> {
@@ -191,10 +193,16 @@ impl<'a> Stainer<'a> {
             preset,
             fall,
             blur,
-            wider: (r.fall_m > 0.0).then_some(blur + 2.0 * release.width),
+            wider: (r.fall_m > 0.0).then_some(blur + ctx.grid_px(SPREAD_M)),
             coverage: rain::stain::Coverage::new(grid.width, grid.height),
             widened: rain::stain::Coverage::new(grid.width, grid.height),
             film: rain::stain::Film::new(grid.width, grid.height),
+            wander: rain::wander::Wander::new(
+                preset.seed,
+                grid.width,
+                grid.height,
+                ctx.grid_px(1.0),
+            ),
         }
     }
 
@@ -221,6 +229,7 @@ impl<'a> Stainer<'a> {
                 .zip(self.fall.fade.data())
                 .for_each(|(c, f)| *c *= f),
         }
+        self.wander.apply(cover);
         if film {
             self.film.lay(cover);
         }
@@ -276,6 +285,12 @@ fn catch(ctx: &Context, line: &[[f32; 2]]) -> f32 {
 /// (blind review 13); 0.08 m left a visible clean gap under each ledge on
 /// the one-ledge wall].
 const ONSET_M: f32 = 0.05;
+
+/// How far a streak has spread sideways at the end of its fall, metres:
+/// the standard deviation of the blur it has widened into there [choice:
+/// 0.15 m; `how-facades-age.md`: "narrow at the release point, wider and
+/// fainter over a fall of about 0.5 to 2 m"].
+const SPREAD_M: f32 = 0.15;
 
 /// Where a ledge's catch is read: this far above it, on its top, metres.
 const CATCH_ABOVE_M: f32 = 0.05;

@@ -10,6 +10,7 @@ pub mod regrid;
 pub mod sources;
 pub mod stain;
 pub mod wall;
+pub mod wander;
 
 use rand::Rng as _;
 use rayon::prelude::*;
