@@ -148,7 +148,7 @@ struct Stainer<'a> {
     widened: rain::stain::Coverage,
     /// The film the rainfalls so far laid.
     film: rain::stain::Film,
-    /// How runs wander and thread on this wall.
+    /// How runs wander sideways on this wall.
     wander: rain::wander::Wander,
 }
 

@@ -257,7 +257,7 @@ impl Default for RainParams {
             source_lines: Vec::new(),
             drip_spacing_m: 0.9,
             end_share: 0.5,
-            release_width_m: 0.03,
+            release_width_m: 0.06,
             fall_m: 1.5,
         }
     }
