@@ -439,6 +439,33 @@ pub(super) mod tests {
         walls as f32 / ((x1 - x0) * (y1 - y0)) as f32
     }
 
+    /// The size of [`crossing`]'s photo.
+    const CROSSING: (usize, usize) = (240, 200);
+
+    /// The classes of a street 240 x 200: an orange wall down to row 110
+    /// over a dark road crossed by white stripes 6 pixels high every 12
+    /// (the bottom row is a stripe), with `front(x, y)` drawn over the road
+    /// where it is `Some`.
+    fn crossing(front: impl Fn(usize, usize) -> Option<[u8; 3]>) -> Vec<Class> {
+        let (w, h) = CROSSING;
+        let img = image::RgbImage::from_fn(w as u32, h as u32, |x, y| {
+            let (x, y) = (x as usize, y as usize);
+            image::Rgb(if y < 110 {
+                [204, 128, 76]
+            } else if let Some(c) = front(x, y) {
+                c
+            } else if (h - 1 - y) % 12 < 6 {
+                [230; 3]
+            } else {
+                [90; 3]
+            })
+        });
+        classify(&Features::new(
+            &Photo::new(image::DynamicImage::ImageRgb8(img)),
+            w as u32,
+        ))
+    }
+
     #[test]
     fn a_crossing_and_the_car_parked_on_it_leave_the_wall() {
         // An orange wall down to 55% of the height over a dark road
@@ -446,27 +473,20 @@ pub(super) mod tests {
         // is a stripe: its fill stops at the first asphalt), and a grey car
         // on it: a dark window band, silver panels split by trim, a
         // bumper, and black tyres in its shadow.
-        let (w, h) = (240usize, 200usize);
-        let img = image::RgbImage::from_fn(w as u32, h as u32, |x, y| {
-            let (x, y) = (x as usize, y as usize);
-            image::Rgb(if y < 110 {
-                [204, 128, 76]
-            } else if (60..150).contains(&x) && (120..166).contains(&y) {
-                match y {
+        let class = crossing(|x, y| {
+            if (60..150).contains(&x) && (120..166).contains(&y) {
+                Some(match y {
                     120..130 => [60, 64, 70],
                     140..142 | 150..156 => [110; 3],
                     _ => [170, 170, 174],
-                }
+                })
             } else if (60..150).contains(&x) && (166..174).contains(&y) {
-                [20; 3]
-            } else if (h - 1 - y) % 12 < 6 {
-                [230; 3]
+                Some([20; 3])
             } else {
-                [90; 3]
-            })
+                None
+            }
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w as u32);
-        let class = classify(&f);
+        let (w, h) = (CROSSING.0, CROSSING.1);
         let road = wall_in(&class, w, (0, w), (125, h));
         assert!(road < 0.3, "{road} of the road and the car is wall");
         let car = wall_in(&class, w, (60, 150), (130, 174));
@@ -482,26 +502,12 @@ pub(super) mod tests {
     /// clothes' folds stand up (`upright`), or blue benches whose slats
     /// lie level. Returns the share of the road beside them that is wall.
     fn crossing_with_figures(upright: bool) -> f32 {
-        let (w, h) = (240usize, 200usize);
-        let img = image::RgbImage::from_fn(w as u32, h as u32, |x, y| {
-            let (x, y) = (x as usize, y as usize);
+        let class = crossing(|x, y| {
             let figure = y >= 120 && ((80..96).contains(&x) || (140..156).contains(&x));
-            image::Rgb(if y < 110 {
-                [204, 128, 76]
-            } else if figure {
-                if (if upright { x } else { y }) % 4 < 2 {
-                    [70, 90, 230]
-                } else {
-                    [10, 15, 90]
-                }
-            } else if (h - 1 - y) % 12 < 6 {
-                [230; 3]
-            } else {
-                [90; 3]
-            })
+            let folds = if upright { x } else { y } % 4 < 2;
+            figure.then_some(if folds { [70, 90, 230] } else { [10, 15, 90] })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w as u32);
-        let class = classify(&f);
+        let (w, h) = (CROSSING.0, CROSSING.1);
         let wall = wall_in(&class, w, (0, w), (0, 105));
         assert!(wall > 0.99, "{wall} of the wall is wall");
         wall_in(&class, w, (0, 70), (125, h))

@@ -276,24 +276,17 @@ mod tests {
     /// Share of the pixels in columns `x0..x1`, rows `y0..y1` that
     /// `classify` calls wall, in a street 240 x 200: a plaster wall down to
     /// row 140 over a grey road with diagonal stripes (seen in perspective),
-    /// and a red body 42 rows high over columns `body` down to row
-    /// `bottom` (with a black shadow strip under it when it stands on the
-    /// road).
-    fn wall_share(
-        body: std::ops::Range<u32>,
-        bottom: u32,
+    /// with `front(x, y, grain)` drawn over it where it is `Some`.
+    fn street_share(
+        front: impl Fn(u32, u32, u8) -> Option<[u8; 3]>,
         (x0, x1): (usize, usize),
         (y0, y1): (usize, usize),
     ) -> f32 {
         let (w, h) = (240u32, 200u32);
         let img = image::RgbImage::from_fn(w, h, |x, y| {
             let grain = ((x * 7 + y * 13) % 5) as u8;
-            image::Rgb(if body.contains(&x) && (bottom - 42..bottom).contains(&y) {
-                if y + 6 >= bottom && bottom > 140 {
-                    [22, 22, 24]
-                } else {
-                    [178 + grain, 28, 30]
-                }
+            image::Rgb(if let Some(c) = front(x, y, grain) {
+                c
             } else if y < 140 {
                 [205 + grain, 190, 168]
             } else {
@@ -303,6 +296,27 @@ mod tests {
         });
         let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w);
         wall_in(&classify(&f), w as usize, (x0, x1), (y0, y1))
+    }
+
+    /// [`street_share`] with a red body 42 rows high over columns `body`
+    /// down to row `bottom` (with a black shadow strip under it when it
+    /// stands on the road).
+    fn wall_share(
+        body: std::ops::Range<u32>,
+        bottom: u32,
+        cols: (usize, usize),
+        rows: (usize, usize),
+    ) -> f32 {
+        let front = |x, y, grain| {
+            (body.contains(&x) && (bottom - 42..bottom).contains(&y)).then(|| {
+                if y + 6 >= bottom && bottom > 140 {
+                    [22, 22, 24]
+                } else {
+                    [178 + grain, 28, 30]
+                }
+            })
+        };
+        street_share(front, cols, rows)
     }
 
     #[test]
@@ -325,32 +339,22 @@ mod tests {
         assert!(shop > 0.95, "{shop} of the shop front is wall");
     }
 
-    /// Share of the pixels in columns `x0..x1`, rows `y0..y1` that
-    /// `classify` calls wall, in the street of [`wall_share`] with a blue
-    /// body over columns 60..180, rows 100..140, down to the wall's foot,
-    /// crossed every 5 pixels by dark lines: level ones (a car seen side
-    /// on: roof, windows, body lines) or `upright` ones (a shop front's
-    /// mullions).
-    fn lined_share(upright: bool, (x0, x1): (usize, usize), (y0, y1): (usize, usize)) -> f32 {
-        let (w, h) = (240u32, 200u32);
-        let img = image::RgbImage::from_fn(w, h, |x, y| {
-            let grain = ((x * 7 + y * 13) % 5) as u8;
-            let line = if upright { x % 5 == 0 } else { y % 5 == 0 };
-            image::Rgb(if (60..180).contains(&x) && (100..140).contains(&y) {
+    /// [`street_share`] with a blue body over columns 60..180, rows
+    /// 100..140, down to the wall's foot, crossed every 5 pixels by dark
+    /// lines: level ones (a car seen side on: roof, windows, body lines) or
+    /// `upright` ones (a shop front's mullions).
+    fn lined_share(upright: bool, cols: (usize, usize), rows: (usize, usize)) -> f32 {
+        let front = |x: u32, y: u32, grain| {
+            let line = if upright { x } else { y }.is_multiple_of(5);
+            ((60..180).contains(&x) && (100..140).contains(&y)).then(|| {
                 if line {
                     [24, 26, 40]
                 } else {
                     [40, 70, 160 + grain]
                 }
-            } else if y < 140 {
-                [205 + grain, 190, 168]
-            } else {
-                let v = if (x + y) % 8 < 4 { 112 } else { 96 };
-                [v, v, v + 4]
             })
-        });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w);
-        wall_in(&classify(&f), w as usize, (x0, x1), (y0, y1))
+        };
+        street_share(front, cols, rows)
     }
 
     #[test]

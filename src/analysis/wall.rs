@@ -627,17 +627,8 @@ pub(super) mod tests {
                 [90, 140, 215]
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
-        let class = classify(&f);
-        let tower: Vec<usize> = (10..190)
-            .flat_map(|y| (260..390).map(move |x| y * 400 + x))
-            .collect();
-        let sky = tower.iter().filter(|&&i| class[i] == Class::Sky).count();
-        assert!(
-            sky * 20 < tower.len(),
-            "{sky} of {} tower pixels are sky",
-            tower.len()
-        );
+        let sky = count_in(&classes(img), 400, 260..390, 10..190, Class::Sky);
+        assert!(sky * 20 < 130 * 180, "{sky} tower pixels are sky");
     }
 
     #[test]
@@ -655,18 +646,10 @@ pub(super) mod tests {
                 [200, 195, 165]
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
-        let class = classify(&f);
-        let sky = class[..90 * 400]
-            .iter()
-            .filter(|&&c| c == Class::Sky)
-            .count();
-        assert!(
-            sky * 10 > 90 * 400 * 9,
-            "{sky} of {} dusk pixels are sky",
-            90 * 400
-        );
-        assert!(class[110 * 400..].iter().all(|&c| c != Class::Sky));
+        let class = classes(img);
+        let sky = count_in(&class, 400, 0..400, 0..90, Class::Sky);
+        assert!(sky * 10 > 90 * 400 * 9, "{sky} dusk pixels are sky");
+        assert_eq!(count_in(&class, 400, 0..400, 110..300, Class::Sky), 0);
     }
 
     #[test]
@@ -685,17 +668,8 @@ pub(super) mod tests {
                 [200, 195, 165]
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
-        let class = classify(&f);
-        let tower: Vec<usize> = (0..290)
-            .flat_map(|y| (310..400).map(move |x| y * 400 + x))
-            .collect();
-        let sky = tower.iter().filter(|&&i| class[i] == Class::Sky).count();
-        assert!(
-            sky * 20 < tower.len(),
-            "{sky} of {} tower pixels are sky",
-            tower.len()
-        );
+        let sky = count_in(&classes(img), 400, 310..400, 0..290, Class::Sky);
+        assert!(sky * 20 < 90 * 290, "{sky} tower pixels are sky");
     }
 
     #[test]
@@ -713,22 +687,34 @@ pub(super) mod tests {
                 brick(y)
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
-        let class = classify(&f);
-        let sky = class[..90 * 400]
-            .iter()
-            .filter(|&&c| c == Class::Sky)
-            .count();
-        assert!(
-            sky * 10 > 90 * 400 * 9,
-            "{sky} of {} night pixels are sky",
-            90 * 400
-        );
-        let top = class[110 * 400..140 * 400]
-            .iter()
-            .filter(|&&c| c == Class::Sky)
-            .count();
+        let class = classes(img);
+        let sky = count_in(&class, 400, 0..400, 0..90, Class::Sky);
+        assert!(sky * 10 > 90 * 400 * 9, "{sky} night pixels are sky");
+        let top = count_in(&class, 400, 0..400, 110..140, Class::Sky);
         assert!(top * 20 < 30 * 400, "{top} unlit wall pixels are sky");
+    }
+
+    /// The classes of `img`, analysed at its own width.
+    fn classes(img: image::RgbImage) -> Vec<Class> {
+        let w = img.width();
+        classify(&Features::new(
+            &Photo::new(image::DynamicImage::ImageRgb8(img)),
+            w,
+        ))
+    }
+
+    /// How many pixels of columns `xs` and rows `ys` of `class` (rows
+    /// `w` long) are `c`.
+    fn count_in(
+        class: &[Class],
+        w: usize,
+        xs: std::ops::Range<usize>,
+        ys: std::ops::Range<usize>,
+        c: Class,
+    ) -> usize {
+        ys.flat_map(|y| xs.clone().map(move |x| y * w + x))
+            .filter(|&i| class[i] == c)
+            .count()
     }
 
     #[test]
