@@ -47,6 +47,10 @@ const SKY_TEXTURE: f32 = 0.05;
 /// in the upper half.
 pub(super) const CLEAR_BLUE: f32 = 0.25;
 
+/// The colour step (L1, 0..3) the sky fills do not flood across: sky is
+/// smooth, a roof edge is a step.
+const SKY_STEP: f32 = 0.08;
+
 /// A dusk sky (dark blue, below `is_sky_colour`'s blue floor) is bluer
 /// than red by more than this (0..1) (measured on LabelMeFacade train: the
 /// one dusk photo's sky has 0.16 at the median, 0.08 at the 5th
@@ -198,7 +202,7 @@ pub(super) fn sky(f: &Features) -> Vec<bool> {
         .map(|i| sky_colour[i] && f.texture[i] < SKY_TEXTURE)
         .collect();
     // Sky is smooth: the fill does not cross a colour step (a roof edge).
-    let smooth_step = |i: usize, j: usize| l1(f.rgb_at(i), f.rgb_at(j)) < 0.08;
+    let smooth_step = |i: usize, j: usize| l1(f.rgb_at(i), f.rgb_at(j)) < SKY_STEP;
     // Seeds: the top row, and clear blue sky in the upper half (seen
     // between branches or beside a tower, not touching the top).
     let mut seeds: Vec<usize> = (0..w).collect();
@@ -236,7 +240,7 @@ pub(super) fn sky(f: &Features) -> Vec<bool> {
         || {
             // Dusk floods over the other fills' steps, night over smaller.
             let dark =
-                dark_sky(f, is_dusk_colour, 0.08).or_else(|| dark_sky(f, is_night, NIGHT_STEP));
+                dark_sky(f, is_dusk_colour, SKY_STEP).or_else(|| dark_sky(f, is_night, NIGHT_STEP));
             (behind_branches(f, &core, &sky_colour, &closed), dark)
         },
     );
@@ -274,12 +278,17 @@ fn is_dusk_colour([r, g, b]: [f32; 3]) -> bool {
 
 /// Black ([`NIGHT_LUMA`]).
 fn is_night([r, g, b]: [f32; 3]) -> bool {
-    0.299 * r + 0.587 * g + 0.114 * b < NIGHT_LUMA
+    luma([r, g, b]) < NIGHT_LUMA
+}
+
+/// Rec. 601 luma of an RGB colour (0..1).
+fn luma([r, g, b]: [f32; 3]) -> f32 {
+    0.299 * r + 0.587 * g + 0.114 * b
 }
 
 /// Bright and bluish, or bright and grey-white.
 fn is_sky_colour([r, g, b]: [f32; 3]) -> bool {
-    let luma = 0.299 * r + 0.587 * g + 0.114 * b;
+    let luma = luma([r, g, b]);
     let sat = super::plane::saturation([r, g, b]);
     let blue = b - r > 0.03 && b >= g - 0.03 && b > 0.35;
     blue || (luma > 0.62 && sat < 0.16)
@@ -336,7 +345,7 @@ fn behind_branches(
         .into_par_iter()
         .map(|i| core[i] || (i < rows * w && texture[i] < SKY_TEXTURE && is_sky_colour(at(i))))
         .collect();
-    let step = |i: usize, j: usize| l1(at(i), at(j)) < 0.08;
+    let step = |i: usize, j: usize| l1(at(i), at(j)) < SKY_STEP;
     let mut seeds = rim(core, w, h);
     seeds.extend(0..w);
     let crown = grow(core.to_vec(), &cand, w, h, seeds, step);

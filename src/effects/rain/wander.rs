@@ -43,8 +43,6 @@ const FINEST_PX: f32 = 1.5;
 pub struct Wander {
     /// Sideways shift, grid pixels: the coverage at x is read at x + shift.
     shift: RowMajor<f32>,
-    /// Grid width: the field's row length.
-    width: usize,
 }
 
 impl Wander {
@@ -57,15 +55,18 @@ impl Wander {
         // Value noise's fBm has a standard deviation near 0.16 about 0.5;
         // scaled so the shift's is WANDER_M.
         let amplitude = WANDER_M * px_per_m / SPREAD;
-        let shift = RowMajor::from_fn(width, height, |x, y| {
-            (shift_noise.at(x as f32, y as f32) - 0.5) * amplitude
-        });
-        Wander { shift, width }
+        let lines = shift_noise.lines(width, amplitude);
+        let mut shift = RowMajor::filled(width, height, 0.0);
+        for (y, row) in shift.data_mut().chunks_mut(width.max(1)).enumerate() {
+            lines.line(y, row);
+            row.iter_mut().for_each(|s| *s -= 0.5 * amplitude);
+        }
+        Wander { shift }
     }
 
     /// Shifts `cover` (the same size as the field) in place.
     pub fn apply(&self, cover: &mut RowMajor<f32>) {
-        let width = self.width.max(1);
+        let width = self.shift.width().max(1);
         cover
             .data_mut()
             .par_chunks_mut(width)
