@@ -157,7 +157,11 @@ fn streaks_fall_below_their_ledges() {
 
 #[test]
 fn streaks_come_dark_where_dirt_settles_and_light_where_water_washed_it() {
-    let (scene, out, _) = facade(&Preset::default());
+    // Without the shelter's soot, which lies in the rain layers under the
+    // cornice where the washed runs are (see the soot's own test).
+    let mut no_soot = Preset::default();
+    no_soot.stain.soot = 0.0;
+    let (scene, out, _) = facade(&no_soot);
     let washed = layers_named(&out, "rain washed")
         .next()
         .expect("a washed layer");
@@ -209,6 +213,52 @@ fn streaks_come_dark_where_dirt_settles_and_light_where_water_washed_it() {
     chang.stain.washed_opacity = 0.0;
     let (_, plain, _) = facade(&chang);
     assert!(layers_named(&plain, "rain washed").next().is_none());
+}
+
+#[test]
+fn soot_darkens_the_wall_under_the_cornice_and_nothing_below_its_band() {
+    use grime::effects::rain::soot::DEPTH_M;
+    let (scene, sooted, d) = facade(&Preset::default());
+    let mut none = Preset::default();
+    none.stain.soot = 0.0;
+    let (_, clean, _) = facade(&none);
+    let (a, b) = (
+        sooted.stack.composite().to_rgb8(),
+        clean.stack.composite().to_rgb8(),
+    );
+    let (w, h) = scene.size();
+    let cornice = d.site.ledges[0].polyline[0][1];
+    let luma = |img: &RgbImage, x: u32, y: u32| {
+        img.get_pixel(x, y).0.iter().map(|&c| c as f64).sum::<f64>()
+    };
+    // Just under the cornice (a fifth of the band), away from the ends.
+    let (x0, x1) = (w / 10, w - w / 10);
+    let (y0, y1) = (
+        cornice as u32 + 2,
+        (cornice + d.site.px(DEPTH_M / 5.0)) as u32,
+    );
+    let (mut dark, mut light, mut n) = (0.0, 0.0, 0.0);
+    for y in y0..y1 {
+        for x in x0..x1 {
+            dark += luma(&a, x, y);
+            light += luma(&b, x, y);
+            n += 1.0;
+        }
+    }
+    assert!(
+        dark < 0.95 * light,
+        "under the cornice: {:.1} with soot, {:.1} without",
+        dark / n,
+        light / n
+    );
+    // Past the deepest line (the band's depth and its wobble), nothing
+    // changed: not under the sills, which project too little to shelter.
+    let below = (cornice + d.site.px(1.6 * DEPTH_M)).ceil() as u32;
+    for y in below..h {
+        for x in 0..w {
+            assert_eq!(a.get_pixel(x, y), b.get_pixel(x, y), "({x}, {y})");
+        }
+    }
 }
 
 #[test]

@@ -88,6 +88,38 @@ pub fn ledge_tops(ctx: &Context, depth_m: f32) -> RowMajor<f32> {
     })
 }
 
+/// How far below the nearest deep projection above it (a roof's eave, a
+/// cornice, a coping or a balcony: the ledges whose rain shelter reaches
+/// far; sills and window heads project a few centimetres) each grid pixel
+/// lies, in metres, divided by how far it is within the ledge's span: a
+/// pixel `taper_m` or more in from the ledge's ends gets its plain
+/// distance; toward an end the distance grows without bound, so a band
+/// under the ledge narrows to nothing there. `f32::INFINITY` where no such
+/// ledge is above.
+pub fn below_projections(ctx: &Context, taper_m: f32) -> RowMajor<f32> {
+    use crate::analysis::LedgeKind::{Balcony, Coping, Cornice, RoofLine};
+    let per_m = ctx.photo_px(1.0).max(f32::MIN_POSITIVE);
+    let taper = (taper_m * per_m).max(1.0);
+    let deep: Vec<&Vec<[f32; 2]>> = ctx
+        .site
+        .ledges
+        .iter()
+        .filter(|l| matches!(l.kind, RoofLine | Cornice | Coping | Balcony))
+        .map(|l| &l.polyline)
+        .collect();
+    on_grid(ctx, |x, y| {
+        deep.iter()
+            .filter_map(|line| {
+                let row = row_at(line, x)?;
+                let (first, last) = (line[0][0], line[line.len() - 1][0]);
+                let inside = ((x - first).min(last - x) / taper).clamp(0.0, 1.0);
+                let below = (y - row) / per_m;
+                (below >= 0.0 && inside > 0.0).then(|| below / inside)
+            })
+            .fold(f32::INFINITY, f32::min)
+    })
+}
+
 /// The row of a polyline (left to right) at column `x`, if `x` is within it.
 pub(crate) fn row_at(line: &[[f32; 2]], x: f32) -> Option<f32> {
     line.windows(2).find_map(|pair| {

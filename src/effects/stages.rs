@@ -150,6 +150,8 @@ struct Stainer<'a> {
     film: rain::stain::Film,
     /// How runs wander sideways on this wall.
     wander: rain::wander::Wander,
+    /// The soot laid in the rain shelter between rainfalls.
+    soot: rain::soot::Soot,
 }
 
 impl<'a> Stainer<'a> {
@@ -203,11 +205,18 @@ impl<'a> Stainer<'a> {
                 grid.height,
                 ctx.grid_px(1.0),
             ),
+            soot: rain::soot::Soot::new(
+                preset.seed,
+                preset.stain.soot,
+                &habitat::below_projections(ctx, rain::soot::TAPER_M),
+                ctx.grid_px(1.0),
+            ),
         }
     }
 
     /// The alpha of the next rainfall's layer, from its `deposit` measured
-    /// against `d_max`, laid on the film of the rainfalls before it.
+    /// against `d_max` and the soot laid in the shelter since the last one,
+    /// laid on the film of the rainfalls before it.
     fn rainfall(&mut self, deposit: &ColumnMajor<f32>, d_max: f32) -> GrayImage {
         self.alpha(deposit, d_max, true)
     }
@@ -231,6 +240,7 @@ impl<'a> Stainer<'a> {
         }
         self.wander.apply(cover);
         if film {
+            self.soot.lay(cover);
             self.film.lay(cover);
         }
         let (w, h) = self.ctx.size();

@@ -283,6 +283,9 @@ pub struct StainParams {
     pub washed_color: [u8; 3],
     /// Opacity of the washed-runs layer; 0 = no such layer.
     pub washed_opacity: f32,
+    /// Share of a full soot film laid under eaves, cornices and balconies
+    /// between two rainfalls (the rain shelter); 0 = none.
+    pub soot: f32,
 }
 
 impl Default for StainParams {
@@ -296,6 +299,7 @@ impl Default for StainParams {
             blur_m: 0.03,
             washed_color: [200, 196, 186],
             washed_opacity: 0.35,
+            soot: crate::effects::rain::soot::PER_RAINFALL,
         }
     }
 }

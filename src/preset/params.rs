@@ -354,6 +354,13 @@ pub(super) const CORE: &[ParamSpec] = &[
         1.0,
     ),
     p(
+        "stain.soot",
+        "",
+        "Soot laid in the rain shelter under eaves, cornices and balconies between two rainfalls, as a share of a full film (0 = none): the sheltered wall darkens with the years",
+        0.0,
+        1.0,
+    ),
+    p(
         "moss.enabled",
         "",
         "Grow moss (a \"moss\" layer above the rain layers)",

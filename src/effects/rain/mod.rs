@@ -7,6 +7,7 @@
 pub mod droplets;
 pub mod fall;
 pub mod regrid;
+pub mod soot;
 pub mod sources;
 pub mod stain;
 pub mod wall;
