@@ -27,10 +27,12 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
     let smooth: Vec<Vec<f32>> = f.rgb.iter().map(|p| box_mean(p, w, h, r)).collect();
     let at = |i: usize| [smooth[0][i], smooth[1][i], smooth[2][i]];
     let top = h * 45 / 100;
+    let gain = light(f, class);
     let basic: Vec<bool> = (0..w * h)
         .into_par_iter()
         .map(|i| {
             let c = at(i);
+            let c = [c[0] * gain[0], c[1] * gain[1], c[2] * gain[2]];
             let (mx, mn) = (c[0].max(c[1]).max(c[2]), c[0].min(c[1]).min(c[2]));
             let sat = (mx - mn) / mx.max(1e-3);
             i / w >= top
@@ -72,7 +74,7 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
             x += 1;
         }
     }
-    flat_ground(f, side, class, &mut g);
+    flat_ground(f, side, class, gain, &mut g);
     let (mut at_cap, mut cols) = (0, 0);
     for x in 0..w {
         if let Some(y) = (top..h).find(|&y| g[y * w + x]) {
@@ -104,11 +106,13 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
 /// to its vanishing point, while the grooves, signs and sills of a
 /// facade's lowest storey seen square on (CMP's rectified facades) run
 /// level. A zebra crossing's stripes run level too: two people on it kept
-/// coruna IMG_8106's whole road wall.
-fn flat_ground(f: &Features, side: &Sideways, class: &[Class], g: &mut [bool]) {
+/// coruna IMG_8106's whole road wall. Saturation is measured with `gain`
+/// (the photo's [`light`]) divided out.
+fn flat_ground(f: &Features, side: &Sideways, class: &[Class], gain: [f32; 3], g: &mut [bool]) {
     let (w, h) = (f.w, f.h);
     let from = (h as f32 * FLAT_GROUND_FROM) as usize * w;
-    let cand = super::plane::flat_wall(f, side, class, from, FLAT_GROUND, FLAT_GROUND_SATURATION);
+    let (flat, sat) = (FLAT_GROUND, FLAT_GROUND_SATURATION);
+    let cand = super::plane::flat_wall(f, side, class, from, flat, sat, gain);
     let row = (h - 1) * w;
     let part = flood(&cand, w, h, (row..row + w).collect(), |_, _| true);
     let bottom = h * 4 / 5 * w..w * h;
@@ -127,6 +131,41 @@ fn flat_ground(f: &Features, side: &Sideways, class: &[Class], g: &mut [bool]) {
     if wide || (covered >= STREET && oblique(f, &part) > OBLIQUE) {
         g.par_iter_mut().zip(&part).for_each(|(a, &b)| *a |= b);
     }
+}
+
+/// Gains per channel that take a coloured light out of the photo before
+/// the ground's grey tests: a road at dusk, or in the shade of a clear sky,
+/// is blue, and under sodium street lamps orange, and was wall for being
+/// too saturated (street_gre91, street_gre86, barcelona night img_1941).
+/// Grey world (G. Buchsbaum, "A spatial processor model for object colour
+/// perception", J. Franklin Inst. 310, 1980): the mean colour of what is
+/// still wall (buildings and the ground; sky and vegetation left out: a
+/// blue sky is not the light) is taken to be grey. Only a light that is
+/// blue (mean blue over the mean red and green) or dim as night (mean luma
+/// under [`NIGHT`]) is taken out: a warm cast by day looks the same as an
+/// ochre facade filling the frame (CMP's), whose plinth the road's fill
+/// then climbs. Half of it (the square root of the gains), as the mean
+/// holds the facade's own colour too (a pink arcade at dusk). Ones when
+/// the light is taken to be white.
+pub(super) fn light(f: &Features, class: &[Class]) -> [f32; 3] {
+    let (sum, n) = (0..f.w * f.h)
+        .into_par_iter()
+        .filter(|&i| class[i] == Class::Wall)
+        .map(|i| (f.rgb_at(i), 1usize))
+        .reduce(
+            || ([0.0; 3], 0),
+            |(a, n), (b, m)| ([a[0] + b[0], a[1] + b[1], a[2] + b[2]], n + m),
+        );
+    if n == 0 {
+        return [1.0; 3];
+    }
+    let m = sum.map(|c| c / n as f32);
+    let luma = 0.299 * m[0] + 0.587 * m[1] + 0.114 * m[2];
+    if m[2] <= m[0].max(m[1]) && luma >= NIGHT {
+        return [1.0; 3];
+    }
+    let grey = (m[0] + m[1] + m[2]) / 3.0;
+    m.map(|c| (grey / c.max(1e-3)).sqrt())
 }
 
 /// The share of `part`'s luma gradient energy that runs oblique,
@@ -306,6 +345,10 @@ const WIDE_STREET: f32 = 0.9;
 /// CMP sill + cornice recall: 0.35 0.699 / 0.796, 0.4 0.697 / 0.802,
 /// 0.45 0.696 / 0.804).
 const OBLIQUE: f32 = 0.4;
+/// A photo whose wall (with the ground) is darker than this mean luma is
+/// lit by street lamps, whose colour [`light`] takes out (LabelMeFacade
+/// train: barcelona night img_1941 at 0.15 is the only one under it).
+const NIGHT: f32 = 0.2;
 /// Ground is less saturated than this.
 const GROUND_SATURATION: f32 = 0.45;
 /// Ground lies within this colour distance (L1, 0..3) of its stretch of
@@ -545,6 +588,40 @@ pub(super) mod tests {
         let class = classify(&f);
         let floor = wall_in(&class, w, (0, w), (112, h));
         assert!(floor > 0.9, "{floor} of the shop floor is wall");
+    }
+
+    /// The share of the bottom 40% of a 240 x 200 photo called ground:
+    /// a wall of colour `wall` down to 60% of the height, `foot` below.
+    fn ground_under(wall: [u8; 3], foot: [u8; 3]) -> f32 {
+        let (w, h) = (240usize, 200usize);
+        let img = image::RgbImage::from_fn(w as u32, h as u32, |_, y| {
+            image::Rgb(if y < 120 { wall } else { foot })
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w as u32);
+        let class = classify(&f);
+        assert!(
+            wall_in(&class, w, (0, w), (0, 115)) > 0.99,
+            "the wall is wall"
+        );
+        1.0 - wall_in(&class, w, (0, w), (125, h))
+    }
+
+    #[test]
+    fn a_road_at_dusk_is_ground() {
+        // A mauve wall over a dark road, blue under the dusk sky: the
+        // road's saturation is 0.48 as it stands (over the limit 0.45),
+        // 0.43 with half the light taken out.
+        let road = ground_under([150, 135, 155], [52, 58, 100]);
+        assert!(road > 0.9, "{road} of the road is ground");
+    }
+
+    #[test]
+    fn by_day_a_warm_plinth_stays_wall() {
+        // An ochre facade over a terracotta plinth: warm, as sodium light
+        // would make a road, but lit by day (its luma 0.5): its colour is
+        // its own, not the light's.
+        let plinth = ground_under([204, 128, 76], [120, 80, 50]);
+        assert!(plinth < 0.1, "{plinth} of the plinth is ground");
     }
 
     #[test]
