@@ -150,8 +150,9 @@ struct Stainer<'a> {
     film: rain::stain::Film,
     /// How runs wander sideways on this wall.
     wander: rain::wander::Wander,
-    /// The soot laid in the rain shelter between rainfalls.
-    soot: rain::soot::Soot,
+    /// The soot laid in the rain shelter between rainfalls, made for the
+    /// first rainfall (a washed layer alone needs none).
+    soot: Option<rain::soot::Soot>,
 }
 
 impl<'a> Stainer<'a> {
@@ -205,12 +206,7 @@ impl<'a> Stainer<'a> {
                 grid.height,
                 ctx.grid_px(1.0),
             ),
-            soot: rain::soot::Soot::new(
-                preset.seed,
-                preset.stain.soot,
-                &habitat::below_projections(ctx, rain::soot::TAPER_M),
-                ctx.grid_px(1.0),
-            ),
+            soot: None,
         }
     }
 
@@ -240,7 +236,18 @@ impl<'a> Stainer<'a> {
         }
         self.wander.apply(cover);
         if film {
-            self.soot.lay(cover);
+            let (ctx, preset) = (self.ctx, self.preset);
+            if preset.stain.soot > 0.0 {
+                let soot = self.soot.get_or_insert_with(|| {
+                    rain::soot::Soot::new(
+                        preset.seed,
+                        preset.stain.soot,
+                        &habitat::below_projections(ctx, rain::soot::TAPER_M),
+                        ctx.grid_px(1.0),
+                    )
+                });
+                soot.lay(cover);
+            }
             self.film.lay(cover);
         }
         let (w, h) = self.ctx.size();
