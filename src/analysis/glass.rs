@@ -247,7 +247,7 @@ fn spread_cols(mask: &[bool], w: usize, r: usize) -> Vec<bool> {
 
 /// The 4-connected components of `mask`, each as its pixel indices, in
 /// raster order of their first pixel.
-fn components(mask: &[bool], w: usize, h: usize) -> Vec<Vec<usize>> {
+pub(super) fn components(mask: &[bool], w: usize, h: usize) -> Vec<Vec<usize>> {
     let mut seen = vec![false; w * h];
     let mut out = Vec::new();
     for start in 0..w * h {

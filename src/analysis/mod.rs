@@ -196,7 +196,8 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
     let f = Features::new(photo, opts.analysis_side.max(16));
     let t_features = ms(t0);
     let t1 = Instant::now();
-    let classes = wall::classify(&f);
+    let mut classes = wall::classify(&f);
+    vehicles::islands(&f, &mut classes);
     let t_classes = ms(t1);
     let t3 = Instant::now();
     // Ledges and the matte need only the classes: side by side.
