@@ -105,7 +105,7 @@ impl Lattice {
     fn cell(&self, v: f32, cells: usize) -> (usize, f32) {
         let g = (v * self.inv_scale).clamp(0.0, (cells - 2) as f32);
         let i = g as usize;
-        (i, smooth(g - i as f32))
+        (i, smoothstep(g - i as f32))
     }
 
     fn at(&self, x: f32, y: f32) -> f32 {
@@ -234,7 +234,9 @@ impl NoiseLines<'_> {
     }
 }
 
-fn smooth(t: f32) -> f32 {
+/// The smoothstep `3 t^2 - 2 t^3` of `t` in 0..1: 0 and 1 at the ends,
+/// level at both.
+pub fn smoothstep(t: f32) -> f32 {
     t * t * (3.0 - 2.0 * t)
 }
 

@@ -71,10 +71,7 @@ impl Features {
         });
         let plane = |c: usize| px.iter().map(|p| p[c]).collect::<Vec<f32>>();
         let rgb = [plane(0), plane(1), plane(2)];
-        let luma: Vec<f32> = px
-            .iter()
-            .map(|p| 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2])
-            .collect();
+        let luma: Vec<f32> = px.iter().map(|&p| luma(p)).collect();
         let texture = texture(&luma, w, h, texture_radius(w, h));
         Features {
             w,
@@ -91,6 +88,11 @@ impl Features {
     pub fn rgb_at(&self, i: usize) -> [f32; 3] {
         [self.rgb[0][i], self.rgb[1][i], self.rgb[2][i]]
     }
+}
+
+/// Rec. 601 luma of an RGB colour (0..1).
+pub fn luma([r, g, b]: [f32; 3]) -> f32 {
+    0.299 * r + 0.587 * g + 0.114 * b
 }
 
 /// How far apart two colours are: the sum of the channels' absolute

@@ -182,9 +182,7 @@ impl Foliage {
                 }
             });
     }
-}
 
-impl Foliage {
     /// Turns wall pixels into vegetation where their texture points every
     /// way and the sky's outline around them is ragged ([`RAGGED`]): the
     /// fringe of a canopy against the sky, with the sky seen through it.
@@ -419,7 +417,8 @@ mod tests {
     /// that points every way (a crown's leaves; the wall's ornament); on
     /// the left a crown of that texture (a disk of radius 100 about (130,
     /// 150)) with the sky showing through it in round holes of 1 to 3
-    /// pixels (9000 of them over the photo, about half the crown). The classes: sky where the photo shows it, wall elsewhere.
+    /// pixels (9000 of them over the photo, about half the crown). The
+    /// classes: sky where the photo shows it, wall elsewhere.
     fn crown_against_the_sky() -> (Features, Vec<Class>, impl Fn(usize, usize) -> bool) {
         let (w, h) = (512usize, 400usize);
         let crown = |x: usize, y: usize| {

@@ -160,8 +160,7 @@ pub(super) fn light(f: &Features, class: &[Class]) -> [f32; 3] {
         return [1.0; 3];
     }
     let m = sum.map(|c| c / n as f32);
-    let luma = 0.299 * m[0] + 0.587 * m[1] + 0.114 * m[2];
-    if m[2] <= m[0].max(m[1]) && luma >= NIGHT {
+    if m[2] <= m[0].max(m[1]) && super::features::luma(m) >= NIGHT {
         return [1.0; 3];
     }
     let grey = (m[0] + m[1] + m[2]) / 3.0;

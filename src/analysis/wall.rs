@@ -9,7 +9,7 @@ use crate::analysis::neighbours;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::features::{Features, box_mean, l1, texture, texture_radius};
+use super::features::{Features, box_mean, l1, luma, texture, texture_radius};
 
 /// What an analysis pixel shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -282,11 +282,6 @@ fn is_night([r, g, b]: [f32; 3]) -> bool {
     luma([r, g, b]) < NIGHT_LUMA
 }
 
-/// Rec. 601 luma of an RGB colour (0..1).
-fn luma([r, g, b]: [f32; 3]) -> f32 {
-    0.299 * r + 0.587 * g + 0.114 * b
-}
-
 /// Bright and bluish, or bright and grey-white.
 fn is_sky_colour([r, g, b]: [f32; 3]) -> bool {
     let luma = luma([r, g, b]);
@@ -313,7 +308,7 @@ impl Closed {
             std::array::from_fn(|k| close(&f.rgb[k][..band * w], w, band, BRANCH_GAP));
         let luma: Vec<f32> = (0..band * w)
             .into_par_iter()
-            .map(|i| 0.299 * rgb[0][i] + 0.587 * rgb[1][i] + 0.114 * rgb[2][i])
+            .map(|i| luma([rgb[0][i], rgb[1][i], rgb[2][i]]))
             .collect();
         let texture = texture(&luma, w, band, texture_radius(w, h));
         Closed { rgb, texture }

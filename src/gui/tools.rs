@@ -162,7 +162,7 @@ pub fn dab(
                 1.0
             } else {
                 let t = 1.0 - (d - hard) / (1.0 - hard);
-                t * t * (3.0 - 2.0 * t)
+                crate::random::smoothstep(t)
             };
             let px = &mut mask.get_pixel_mut(x, y)[0];
             let v = (v * 255.0).round() as u8;

@@ -72,7 +72,7 @@ impl Top {
     fn onset(&self, d: f32) -> f32 {
         if self.ramp > 0.0 {
             let t = ((d - self.start) / self.ramp).clamp(0.0, 1.0);
-            t * t * (3.0 - 2.0 * t)
+            crate::random::smoothstep(t)
         } else {
             1.0
         }

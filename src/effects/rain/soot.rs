@@ -21,7 +21,7 @@ use rayon::prelude::*;
 
 use crate::effects::Effect;
 use crate::field::RowMajor;
-use crate::random::{Noise, key};
+use crate::random::{Noise, key, smoothstep};
 
 /// The share of a full soot film one rainfall's interval lays in the
 /// shelter, `stain.soot`'s default [choice: 0.04; over forty rainfalls (fifty years at the default
@@ -90,7 +90,7 @@ impl Soot {
             for ((v, &d), n) in row.iter_mut().zip(below).zip(&wobble) {
                 let line = DEPTH_M * (1.0 + n - WOBBLE);
                 let t = ((line - d) / (SOFT_M + FADE * line)).clamp(0.0, 1.0);
-                *v = share * t * t * (3.0 - 2.0 * t);
+                *v = share * smoothstep(t);
             }
         }
         Soot { per_rainfall }

@@ -131,7 +131,7 @@ impl Warp {
                 let g = i as f32 / knot;
                 let k = (g as usize).min(knots.len() - 2);
                 let t = (g - k as f32).clamp(0.0, 1.0);
-                let t = t * t * (3.0 - 2.0 * t);
+                let t = crate::random::smoothstep(t);
                 knots[k] + (knots[k + 1] - knots[k]) * t
             })
             .collect();
