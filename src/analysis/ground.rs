@@ -27,18 +27,14 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
     let smooth: Vec<Vec<f32>> = f.rgb.iter().map(|p| box_mean(p, w, h, r)).collect();
     let at = |i: usize| [smooth[0][i], smooth[1][i], smooth[2][i]];
     let top = h * 45 / 100;
-    let gain = light(f, class);
+    let light = Light::of(f, class);
     let basic: Vec<bool> = (0..w * h)
         .into_par_iter()
         .map(|i| {
-            let c = at(i);
-            let c = [c[0] * gain[0], c[1] * gain[1], c[2] * gain[2]];
-            let (mx, mn) = (c[0].max(c[1]).max(c[2]), c[0].min(c[1]).min(c[2]));
-            let sat = (mx - mn) / mx.max(1e-3);
             i / w >= top
                 && class[i] == Class::Wall
                 && f.texture[i] < GROUND_TEXTURE
-                && sat < GROUND_SATURATION
+                && light.saturation(at(i)) < GROUND_SATURATION
         })
         .collect();
     let row = (h - 1) * w;
@@ -74,7 +70,7 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
             x += 1;
         }
     }
-    flat_ground(f, side, class, gain, &mut g);
+    flat_ground(f, side, class, light, &mut g);
     let (mut at_cap, mut cols) = (0, 0);
     for x in 0..w {
         if let Some(y) = (top..h).find(|&y| g[y * w + x]) {
@@ -106,13 +102,13 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
 /// to its vanishing point, while the grooves, signs and sills of a
 /// facade's lowest storey seen square on (CMP's rectified facades) run
 /// level. A zebra crossing's stripes run level too: two people on it kept
-/// coruna IMG_8106's whole road wall. Saturation is measured with `gain`
-/// (the photo's [`light`]) divided out.
-fn flat_ground(f: &Features, side: &Sideways, class: &[Class], gain: [f32; 3], g: &mut [bool]) {
+/// coruna IMG_8106's whole road wall. Saturation is measured under the
+/// photo's [`Light`].
+fn flat_ground(f: &Features, side: &Sideways, class: &[Class], light: Light, g: &mut [bool]) {
     let (w, h) = (f.w, f.h);
     let from = (h as f32 * FLAT_GROUND_FROM) as usize * w;
     let (flat, sat) = (FLAT_GROUND, FLAT_GROUND_SATURATION);
-    let cand = super::plane::flat_wall(f, side, class, from, flat, sat, gain);
+    let cand = super::plane::flat_wall(f, side, class, from, flat, sat, light);
     let row = (h - 1) * w;
     let part = flood(&cand, w, h, (row..row + w).collect(), |_, _| true);
     let bottom = h * 4 / 5 * w..w * h;
@@ -133,38 +129,67 @@ fn flat_ground(f: &Features, side: &Sideways, class: &[Class], gain: [f32; 3], g
     }
 }
 
-/// Gains per channel that take a coloured light out of the photo before
-/// the ground's grey tests: a road at dusk, or in the shade of a clear sky,
-/// is blue, and under sodium street lamps orange, and was wall for being
-/// too saturated (street_gre91, street_gre86, barcelona night img_1941).
-/// Grey world (G. Buchsbaum, "A spatial processor model for object colour
-/// perception", J. Franklin Inst. 310, 1980): the mean colour of what is
-/// still wall (buildings and the ground; sky and vegetation left out: a
-/// blue sky is not the light) is taken to be grey. Only a light that is
-/// blue (mean blue over the mean red and green) or dim as night (mean luma
-/// under [`NIGHT`]) is taken out: a warm cast by day looks the same as an
-/// ochre facade filling the frame (CMP's), whose plinth the road's fill
-/// then climbs. Half of it (the square root of the gains), as the mean
-/// holds the facade's own colour too (a pink arcade at dusk). Ones when
-/// the light is taken to be white.
-pub(super) fn light(f: &Features, class: &[Class]) -> [f32; 3] {
-    let (sum, n) = (0..f.w * f.h)
-        .into_par_iter()
-        .filter(|&i| class[i] == Class::Wall)
-        .map(|i| (f.rgb_at(i), 1usize))
-        .reduce(
-            || ([0.0; 3], 0),
-            |(a, n), (b, m)| ([a[0] + b[0], a[1] + b[1], a[2] + b[2]], n + m),
-        );
-    if n == 0 {
-        return [1.0; 3];
+/// The light a photo was taken under, taken out before the ground's grey
+/// tests: a road at dusk, or in the shade of a clear sky, is blue, and
+/// under street lamps orange, and was wall for being too saturated
+/// (street_gre91, street_gre86, barcelona night img_1941).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Light {
+    /// Gains per channel that make the light grey (ones for white light).
+    Cast([f32; 3]),
+    /// Sodium street lamps: their light is nearly one wavelength, yellow,
+    /// with no blue to scale up, so colour tells nothing and every pixel
+    /// is taken as grey (review 20's barcelona night img_1934: mean blue
+    /// 0.08 of the mean red; the least blue photo by day of LabelMeFacade
+    /// and CMP is at 0.56).
+    Sodium,
+}
+
+impl Light {
+    /// White light: the photo's own colours.
+    pub(super) const WHITE: Light = Light::Cast([1.0; 3]);
+
+    /// The light of the photo from what is still wall (buildings and the
+    /// ground; sky and vegetation left out: a blue sky is not the light),
+    /// by grey world (G. Buchsbaum, "A spatial processor model for object
+    /// colour perception", J. Franklin Inst. 310, 1980): its mean colour
+    /// is taken to be grey. Only a light that is blue (mean blue over the
+    /// mean red and green), dim as night (mean luma under [`NIGHT`]) or
+    /// sodium (mean blue under [`SODIUM`] of the mean red) is taken out: a
+    /// warm cast by day looks the same as an ochre facade filling the
+    /// frame (CMP's), whose plinth the road's fill then climbs. Half of a
+    /// cast (the square root of the gains), as the mean holds the facade's
+    /// own colour too (a pink arcade at dusk).
+    pub(super) fn of(f: &Features, class: &[Class]) -> Light {
+        let (sum, n) = (0..f.w * f.h)
+            .into_par_iter()
+            .filter(|&i| class[i] == Class::Wall)
+            .map(|i| (f.rgb_at(i), 1usize))
+            .reduce(
+                || ([0.0; 3], 0),
+                |(a, n), (b, m)| ([a[0] + b[0], a[1] + b[1], a[2] + b[2]], n + m),
+            );
+        if n == 0 {
+            return Light::WHITE;
+        }
+        let m = sum.map(|c| c / n as f32);
+        if m[2] < SODIUM * m[0] {
+            return Light::Sodium;
+        }
+        if m[2] <= m[0].max(m[1]) && super::features::luma(m) >= NIGHT {
+            return Light::WHITE;
+        }
+        let grey = (m[0] + m[1] + m[2]) / 3.0;
+        Light::Cast(m.map(|c| (grey / c.max(1e-3)).sqrt()))
     }
-    let m = sum.map(|c| c / n as f32);
-    if m[2] <= m[0].max(m[1]) && super::features::luma(m) >= NIGHT {
-        return [1.0; 3];
+
+    /// The HSV saturation of `c` under this light.
+    pub(super) fn saturation(self, [r, g, b]: [f32; 3]) -> f32 {
+        match self {
+            Light::Cast(k) => super::plane::saturation([r * k[0], g * k[1], b * k[2]]),
+            Light::Sodium => 0.0,
+        }
     }
-    let grey = (m[0] + m[1] + m[2]) / 3.0;
-    m.map(|c| (grey / c.max(1e-3)).sqrt())
 }
 
 /// The share of `part`'s luma gradient energy that runs oblique,
@@ -345,9 +370,12 @@ const WIDE_STREET: f32 = 0.9;
 /// 0.45 0.696 / 0.804).
 const OBLIQUE: f32 = 0.4;
 /// A photo whose wall (with the ground) is darker than this mean luma is
-/// lit by street lamps, whose colour [`light`] takes out (LabelMeFacade
+/// lit by street lamps, whose colour [`Light`] takes out (LabelMeFacade
 /// train: barcelona night img_1941 at 0.15 is the only one under it).
 const NIGHT: f32 = 0.2;
+/// A photo whose mean blue (over what is still wall) is under this share
+/// of its mean red is lit by sodium lamps (see [`Light::Sodium`]).
+const SODIUM: f32 = 0.2;
 /// Ground is less saturated than this.
 const GROUND_SATURATION: f32 = 0.45;
 /// Ground lies within this colour distance (L1, 0..3) of its stretch of
@@ -611,6 +639,14 @@ pub(super) mod tests {
         // road's saturation is 0.48 as it stands (over the limit 0.45),
         // 0.43 with half the light taken out.
         let road = ground_under([150, 135, 155], [52, 58, 100]);
+        assert!(road > 0.9, "{road} of the road is ground");
+    }
+
+    #[test]
+    fn a_road_under_sodium_lamps_is_ground() {
+        // Sodium light has no blue: the road's saturation is 0.98, with
+        // any gain (its blue has nothing to scale up) still over the limit.
+        let road = ground_under([110, 66, 4], [170, 104, 3]);
         assert!(road > 0.9, "{road} of the road is ground");
     }
 

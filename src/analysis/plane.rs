@@ -18,7 +18,7 @@
 use rayon::prelude::*;
 
 use super::features::{Features, box_mean};
-use super::ground::JOINT_BAND;
+use super::ground::{JOINT_BAND, Light};
 use super::wall::{Class, flood};
 
 /// Ground whose sideways share is over this is wall, and what stands up
@@ -76,7 +76,7 @@ pub fn settle(f: &Features, side: &Sideways, class: &mut [Class]) {
         return;
     }
     let from = farthest(class, w, h).max((h as f32 * FLAT_FROM) as usize) * w;
-    let flat = flat_wall(f, side, class, from, FLAT, FLAT_SATURATION, [1.0; 3]);
+    let flat = flat_wall(f, side, class, from, FLAT, FLAT_SATURATION, Light::WHITE);
     let seeds: Vec<usize> = (from..w * h)
         .filter(|&i| flat[i] && super::neighbours(i, w, h).any(|j| class[j] == Class::Ground))
         .collect();
@@ -110,8 +110,8 @@ fn farthest(class: &[Class], w: usize, h: usize) -> usize {
 }
 
 /// Wall pixels from index `from` on whose gradients run sideways less
-/// than `flat` (they lie flat) and whose saturation, once each channel is
-/// multiplied by its `gain` (the light taken out), is under `sat`.
+/// than `flat` (they lie flat) and whose saturation under the photo's
+/// `light` is under `sat`.
 pub(super) fn flat_wall(
     f: &Features,
     side: &Sideways,
@@ -119,15 +119,15 @@ pub(super) fn flat_wall(
     from: usize,
     flat: f32,
     sat: f32,
-    gain: [f32; 3],
+    light: Light,
 ) -> Vec<bool> {
     (0..f.w * f.h)
         .into_par_iter()
         .map(|i| {
-            i >= from && class[i] == Class::Wall && side.at(i) < flat && {
-                let [r, g, b] = f.rgb_at(i);
-                saturation([r * gain[0], g * gain[1], b * gain[2]]) < sat
-            }
+            i >= from
+                && class[i] == Class::Wall
+                && side.at(i) < flat
+                && light.saturation(f.rgb_at(i)) < sat
         })
         .collect()
 }
