@@ -198,6 +198,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
     let t1 = Instant::now();
     let mut classes = wall::classify(&f);
     vehicles::islands(&f, &mut classes);
+    vehicles::short_pieces(&f, &mut classes);
     let t_classes = ms(t1);
     let t3 = Instant::now();
     // Ledges and the matte need only the classes: side by side.
