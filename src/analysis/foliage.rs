@@ -73,9 +73,9 @@ const DIAGONAL: f32 = 0.65;
 const STRENGTH: f32 = 0.19;
 
 /// Luma added to the pixel's in [`STRENGTH`], so that the noise of black
-/// is no contrast (measured in the log form, at 0.2: 0.01 train 0.7424 / 0.358 / 524090,
-/// held-out 0.7186 / 0.333 / 664491; 0.06 0.7424 / 0.364 / 514401, 0.7166
-/// / 0.342 / 638876).
+/// is no contrast (measured in the log form, at 0.2: 0.01 train 0.7424 /
+/// 0.358 / 524090, held-out 0.7186 / 0.333 / 664491; 0.06 0.7424 / 0.364
+/// / 514401, 0.7166 / 0.342 / 638876).
 const DARK: f32 = 0.03;
 
 /// Share of the vote box that must look like foliage (LabelMeFacade
