@@ -20,6 +20,8 @@
 //! it, standing on the ground and lying flat, is a car ([`SHORT`]): the
 //! wall goes on up, shop fronts stand up.
 
+use rayon::prelude::*;
+
 use super::features::{Features, box_mean, l1};
 use super::glass::components;
 use super::plane::saturation;
@@ -287,6 +289,7 @@ pub(super) fn short_pieces(f: &Features, class: &mut [Class]) {
     // top: a piece that goes on higher is cut there and is not short.
     let rows = h - from;
     let cand: Vec<bool> = (from * w..w * h)
+        .into_par_iter()
         .map(|i| {
             let (x, y) = (i % w, i / w);
             class[i] == Class::Wall
@@ -326,20 +329,22 @@ pub(super) fn short_pieces(f: &Features, class: &mut [Class]) {
 fn wall_over(f: &Features, class: &[Class], top: &[usize]) -> Vec<Option<[f32; 3]>> {
     let (w, h) = (f.w, f.h);
     let (lo, hi) = WALL_ABOVE;
-    let mut c: [Vec<f32>; 3] = Default::default();
+    let buffers = <[Vec<f32>; 3]>::default;
     let above: Vec<Option<[f32; 3]>> = (0..w)
-        .map(|x| {
+        .into_par_iter()
+        .map_init(buffers, |c, x| {
             let rows = top[x].saturating_sub((h as f32 * hi) as usize)
                 ..top[x].saturating_sub((h as f32 * lo) as usize);
             let walls = rows.map(|y| y * w + x).filter(|&i| class[i] == Class::Wall);
-            median(walls.map(|i| f.rgb_at(i)), &mut c)
+            median(walls.map(|i| f.rgb_at(i)), c)
         })
         .collect();
     let r = (w as f32 * KERB_REACH) as usize;
     (0..w)
-        .map(|x| {
+        .into_par_iter()
+        .map_init(buffers, |c, x| {
             let near = &above[x.saturating_sub(r)..(x + r + 1).min(w)];
-            median(near.iter().flatten().copied(), &mut c)
+            median(near.iter().flatten().copied(), c)
         })
         .collect()
 }
@@ -410,15 +415,19 @@ fn sideways(f: &Features, from: usize) -> Vec<f32> {
     let rows = h - y0;
     let l = &f.luma;
     let (mut jxx, mut jyy) = (vec![0f32; rows * w], vec![0f32; rows * w]);
-    for y in y0..h {
-        let (up, down) = (y.saturating_sub(1) * w, (y + 1).min(h - 1) * w);
-        for x in 0..w {
-            let gx = l[y * w + (x + 1).min(w - 1)] - l[y * w + x.saturating_sub(1)];
-            let gy = l[down + x] - l[up + x];
-            jxx[(y - y0) * w + x] = gx * gx;
-            jyy[(y - y0) * w + x] = gy * gy;
-        }
-    }
+    jxx.par_chunks_mut(w)
+        .zip(jyy.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(k, (jxx, jyy))| {
+            let y = y0 + k;
+            let (up, down) = (y.saturating_sub(1) * w, (y + 1).min(h - 1) * w);
+            for x in 0..w {
+                let gx = l[y * w + (x + 1).min(w - 1)] - l[y * w + x.saturating_sub(1)];
+                let gy = l[down + x] - l[up + x];
+                jxx[x] = gx * gx;
+                jyy[x] = gy * gy;
+            }
+        });
     let (jxx, jyy) = (box_mean(&jxx, w, rows, r), box_mean(&jyy, w, rows, r));
     jxx[(from - y0) * w..]
         .iter()
