@@ -19,6 +19,7 @@
 
 mod appearance;
 mod courses;
+mod crowns;
 pub mod eval;
 mod features;
 mod foliage;
