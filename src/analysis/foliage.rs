@@ -277,9 +277,7 @@ fn cell_sums(f: &Features, k: usize, gw: usize, gh: usize) -> Vec<[f32; 5]> {
                 let (up, down) = (y.saturating_sub(1) * w, (y + 1).min(h - 1) * w);
                 for (cx, (s, m)) in row.iter_mut().zip(count.iter_mut()).enumerate() {
                     for x in cx * k..((cx + 1) * k).min(w) {
-                        let (left, right) =
-                            (y * w + x.saturating_sub(1), y * w + (x + 1).min(w - 1));
-                        let gx = l[right] - l[left];
+                        let gx = l[y * w + (x + 1).min(w - 1)] - l[y * w + x.saturating_sub(1)];
                         let gy = l[down + x] - l[up + x];
                         let e = gx * gx + gy * gy;
                         s[0] += gx * gx;

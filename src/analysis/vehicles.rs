@@ -245,6 +245,7 @@ fn on_the_kerb(f: &Features, class: &mut [Class]) {
     let wall = wall_over(f, class, &top);
     let side = sideways(f, from);
     let cand: Vec<bool> = (0..w * h)
+        .into_par_iter()
         .map(|i| {
             let (x, y) = (i % w, i / w);
             class[i] == Class::Wall
@@ -494,7 +495,9 @@ mod tests {
     /// `classify` calls wall, in a street 240 x 200: a plaster wall down to
     /// row 140 over a grey road with diagonal stripes (seen in perspective),
     /// with `front(x, y, grain)` drawn over it where it is `Some`, classed
-    /// as [`crate::analysis::analyse`] does.
+    /// by `classify` and [`super::islands`] (the kerb, foot and island
+    /// rules these street tests check; [`super::short_pieces`], which
+    /// `analyse` runs after them, is tested with [`facade_share`]).
     fn street_share(
         front: impl Fn(u32, u32, u8) -> Option<[u8; 3]>,
         (x0, x1): (usize, usize),
@@ -512,10 +515,27 @@ mod tests {
                 [v, v, v + 4]
             })
         });
+        wall_share_of(img, false, (x0, x1), (y0, y1))
+    }
+
+    /// Share of the pixels in columns `x0..x1`, rows `y0..y1` of `img`
+    /// called wall by `classify` and [`super::islands`], then, when
+    /// `short` is set, [`super::short_pieces`] (as
+    /// [`crate::analysis::analyse`] does).
+    fn wall_share_of(
+        img: image::RgbImage,
+        short: bool,
+        (x0, x1): (usize, usize),
+        (y0, y1): (usize, usize),
+    ) -> f32 {
+        let w = img.width();
         let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w);
         let mut class = classify(&f);
         super::islands(&f, &mut class);
-        wall_in(&class, w as usize, (x0, x1), (y0, y1))
+        if short {
+            super::short_pieces(&f, &mut class);
+        }
+        wall_in(&class, f.w, (x0, x1), (y0, y1))
     }
 
     /// [`street_share`] with a red body 42 rows high over columns `body`
@@ -644,11 +664,7 @@ mod tests {
                 [120 + grain, 120, 122]
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w);
-        let mut class = classify(&f);
-        super::islands(&f, &mut class);
-        super::short_pieces(&f, &mut class);
-        wall_in(&class, w as usize, (x0, x1), (y0, y1))
+        wall_share_of(img, true, (x0, x1), (y0, y1))
     }
 
     #[test]
