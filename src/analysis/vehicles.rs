@@ -177,9 +177,9 @@ const PIECE_FLAT: f32 = 0.35;
 /// the seam: it is the foot of something taller (a shop front) that a
 /// line was drawn across, not a car. On a flat shop front standing on
 /// the road, the kerb rule takes a strip along its foot (the foot's edge
-/// lies level), and the appearance models give the strip's inside back
-/// to the wall but not its outline: a ring of ground, whose inside was a
-/// short, flat piece (a synthetic red front 0.21 of the height tall lost
+/// lies level), and by the end of `classify` the strip's inside is wall
+/// again but not its outline (the appearance models' relabelling, it
+/// seems): a ring of ground, whose inside was a short, flat piece (a synthetic red front 0.21 of the height tall lost
 /// 0.12 of itself). Measured at 0.002 (a pixel at LabelMeFacade's
 /// analysis sizes, 512 to 768 px): see [`CAPPED`].
 const SEAM: f32 = 0.002;
@@ -298,7 +298,9 @@ fn on_the_kerb(f: &Features, class: &mut [Class]) {
 /// finished classes (`analyse` calls it after [`islands`]). The wall
 /// stands on the ground too, but it goes on up, unlike a car's body; a
 /// shop front or a plinth is short but stands up (jambs, mullions), a
-/// car's lines lie level (roof, windows, sills, bumper, shadow).
+/// car's lines lie level (roof, windows, sills, bumper, shadow). A piece
+/// [`capped`] by a thin seam with more of the same over it is the foot of
+/// something taller, cut off by a line another rule drew.
 pub(super) fn short_pieces(f: &Features, class: &mut [Class]) {
     let (w, h) = (f.w, f.h);
     let top = ground_top(class, w, h);
