@@ -178,19 +178,19 @@ const PIECE_FLAT: f32 = 0.35;
 /// line was drawn across, not a car. On a flat shop front standing on
 /// the road, the kerb rule takes a strip along its foot (the foot's edge
 /// lies level), and by the end of `classify` the strip's inside is wall
-/// again but not its outline (the appearance models' relabelling, it
-/// seems): a ring of ground, whose inside was a short, flat piece (a synthetic red front 0.21 of the height tall lost
-/// 0.12 of itself). Measured at 0.002 (a pixel at LabelMeFacade's
-/// analysis sizes, 512 to 768 px): see [`CAPPED`].
+/// again but not its outline: a ring of ground, whose inside was a short,
+/// flat piece (a synthetic red front 0.21 of the height tall lost 0.12 of
+/// itself). Measured at 0.002 (a pixel at LabelMeFacade's analysis sizes,
+/// 512 to 768 px): see [`CAPPED`].
 const SEAM: f32 = 0.002;
 
-/// ... the share of a piece's columns capped (see [`SEAM`]). Built,
-/// against no such test (LabelMeFacade train: car pixels given back to
-/// the wall / wall pixels kept; held out IoU, CMP sill + cornice recall):
-/// 0.3 483 / 105; 0.5 483 / 77 (`boston383`'s car, under stray ground
-/// rows, given back), CMP 4626 (unchanged); 0.9 12 / 3, held out 0.723
-/// (car 15 px given back, wall 174 px kept), CMP 4626. A car's roof is
-/// seldom capped over most of its width.
+/// The share of a piece's columns capped (see [`SEAM`]), measured
+/// (LabelMeFacade train: car pixels given back to the wall / wall pixels
+/// kept; held out IoU, CMP sill + cornice recall): 0.3 483 / 105; 0.5
+/// 483 / 77 (`boston383`'s car, under stray ground rows, given back), CMP
+/// 4626 (unchanged); 0.9 12 / 3, held out 0.723 (car 15 px given back,
+/// wall 174 px kept), CMP 4626. A car's roof is seldom capped over most of
+/// its width.
 const CAPPED: f32 = 0.9;
 
 /// Turns the wall below the wall's foot into ground (see the module's
