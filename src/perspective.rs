@@ -244,7 +244,16 @@ impl Rectifier {
                     alpha: out,
                 }
             }
-            LayerPixels::Rgba(img) => {
+            // A per-pixel colour map is unrectified with its layer's alpha.
+            LayerPixels::Rgba(_) | LayerPixels::Painted { .. } => {
+                let painted;
+                let img = match &layer.pixels {
+                    LayerPixels::Rgba(img) => img,
+                    _ => {
+                        painted = layer.to_rgba();
+                        &painted
+                    }
+                };
                 let mut out = RgbaImage::new(photo_w, photo_h);
                 out.par_chunks_mut(photo_w as usize * 4)
                     .enumerate()

@@ -185,7 +185,9 @@ impl Effect {
         };
         match self {
             Effect::Rain => match path {
-                "stain.color" | "stain.opacity" | "stain.washed_color" => true,
+                "stain.opacity" | "stain.washed_color" => true,
+                // A deposit's colour map is made from the dirt's colour.
+                "stain.color" => old.stain.wall_hue == 0.0 && new.stain.wall_hue == 0.0,
                 // The washed layer exists on both sides.
                 "stain.washed_opacity" => {
                     old.stain.washed_opacity > 0.0 && new.stain.washed_opacity > 0.0
