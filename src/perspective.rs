@@ -477,6 +477,7 @@ mod tests {
         preset.rain.drip_spacing_m = 0.0;
         preset.rain.end_share = 0.0;
         preset.rain.fall_m = 0.0;
+        preset.stain.wall_hue = 0.0;
         let out = in_plane(&scene, quad, &preset);
         let LayerPixels::Tint { alpha, .. } = &out.stack.layers[0].pixels else {
             panic!("tint")

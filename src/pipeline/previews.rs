@@ -424,7 +424,7 @@ mod tests {
             LayerPixels::Rgba(img) => {
                 assert_eq!(img.as_raw()[..8], [0, 0, 200, 128, 0, 200, 0, 50])
             }
-            LayerPixels::Tint { .. } => panic!("not RGBA"),
+            LayerPixels::Tint { .. } | LayerPixels::Painted { .. } => panic!("not RGBA"),
         }
         assert!(mix_layers(&[], &[], 0.5).is_empty());
     }

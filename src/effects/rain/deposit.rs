@@ -78,7 +78,6 @@ pub fn colors(ctx: &Context, dirt: [u8; 3], wall_hue: f32) -> RgbImage {
     let (gw, gh) = (grid.width, grid.height);
     let (pw, ph) = (ctx.photo.width(), ctx.photo.height());
     let image = ctx.photo.image();
-    let mut channels = [0, 1, 2].map(|_| vec![0.0f32; gw * gh]);
     let samples: Vec<[f32; 3]> = (0..gw * gh)
         .into_par_iter()
         .map(|i| {
@@ -88,41 +87,39 @@ pub fn colors(ctx: &Context, dirt: [u8; 3], wall_hue: f32) -> RgbImage {
             rgb_at(image, x, y)
         })
         .collect();
-    for (i, s) in samples.iter().enumerate() {
-        for c in 0..3 {
-            channels[c][i] = s[c];
-        }
-    }
     let radius = ctx.grid_px(LOCAL_M).round().max(1.0) as usize;
     let region = ctx.region;
     // The wall's mean colour, for cells outside the region (the upsample
     // blends them into the wall's edge).
     let inside = region.data().iter().filter(|r| **r).count().max(1) as f32;
     let mean = [0, 1, 2].map(|c| {
-        channels[c]
+        samples
             .iter()
             .zip(region.data())
             .filter(|(_, r)| **r)
-            .map(|(v, _)| v)
+            .map(|(v, _)| v[c])
             .sum::<f32>()
             / inside
     });
-    let local = channels.map(|v| box_mean(&RowMajor::new(gw, gh, v), region, radius));
-    let mut out: [Vec<f32>; 3] = [0, 1, 2].map(|_| vec![0.0f32; gw * gh]);
-    for i in 0..gw * gh {
-        let wall = if region.data()[i] {
-            [local[0].data()[i], local[1].data()[i], local[2].data()[i]]
-        } else {
-            mean
-        };
-        let c = deposit_color(wall, dirt, wall_hue);
-        for k in 0..3 {
-            out[k][i] = c[k] / 255.0;
-        }
-    }
-    let planes: Vec<GrayImage> = out
+    let local = [0, 1, 2].map(|c| {
+        let v = samples.iter().map(|s| s[c]).collect();
+        box_mean(&RowMajor::new(gw, gh, v), region, radius)
+    });
+    let colours: Vec<[f32; 3]> = (0..gw * gh)
+        .map(|i| {
+            let wall = match region.data()[i] {
+                true => local.each_ref().map(|l| l.data()[i]),
+                false => mean,
+            };
+            deposit_color(wall, dirt, wall_hue)
+        })
+        .collect();
+    let planes: Vec<GrayImage> = vec![0, 1, 2]
         .into_par_iter()
-        .map(|v| grid.upsample(&RowMajor::new(gw, gh, v), None, pw, ph))
+        .map(|k| {
+            let v = colours.iter().map(|c| c[k] / 255.0).collect();
+            grid.upsample(&RowMajor::new(gw, gh, v), None, pw, ph)
+        })
         .collect();
     let mut rgb = RgbImage::new(pw, ph);
     rgb.par_chunks_mut(3)
