@@ -158,16 +158,14 @@ pub fn catch(ctx: &Context) -> GrayImage {
     luma.par_chunks_mut(wu.max(1))
         .enumerate()
         .for_each(|(y, row)| ctx.photo.luma_row(y as u32, row));
-    let luma = RowMajor::new(wu, hu, luma);
-    let all = RowMajor::filled(wu, hu, true);
     let radius = ctx.photo_px(GRAIN_M).max(GRAIN_MIN_PX).round() as usize;
-    let local = box_mean(&luma, &all, radius);
+    let local = box_blur(&luma, wu, hu, radius);
     let mut out = GrayImage::new(w, h);
     out.par_chunks_mut(wu.max(1))
         .enumerate()
         .for_each(|(y, row)| {
             let mask = ctx.mask.map(|m| &m.as_raw()[y * wu..(y + 1) * wu]);
-            let (l, m) = (&luma.data()[y * wu..][..wu], &local.data()[y * wu..][..wu]);
+            let (l, m) = (&luma[y * wu..][..wu], &local[y * wu..][..wu]);
             for (x, o) in row.iter_mut().enumerate() {
                 let lighter = ((l[x] - m[x]) / m[x].max(1.0)).clamp(0.0, 1.0);
                 let weight = mask.map_or(255.0, |m| f32::from(m[x]));
@@ -177,9 +175,83 @@ pub fn catch(ctx: &Context) -> GrayImage {
     out
 }
 
+/// Rows a task of [`box_blur`] slides its window down.
+const STRIP: usize = 64;
+
+/// The mean of `values` (`w` x `h`, row-major) over the square window
+/// `radius` either side, clipped at the borders: a running sum along each
+/// row, then a window of row sums slid down strips of rows (the photo-size
+/// grain map, where [`box_mean`]'s region counts are not needed).
+fn box_blur(values: &[f32], w: usize, h: usize, radius: usize) -> Vec<f32> {
+    let mut rows = vec![0.0f32; w * h];
+    rows.par_chunks_mut(w.max(1))
+        .zip(values.par_chunks(w.max(1)))
+        .for_each(|(out, row)| {
+            let mut sum: f32 = row[..radius.min(w)].iter().sum();
+            for (x, o) in out.iter_mut().enumerate() {
+                if x + radius < w {
+                    sum += row[x + radius];
+                }
+                if x > radius {
+                    sum -= row[x - radius - 1];
+                }
+                let n = (x + radius).min(w - 1) + 1 - x.saturating_sub(radius);
+                *o = sum / n as f32;
+            }
+        });
+    let mut out = vec![0.0f32; w * h];
+    out.par_chunks_mut((STRIP * w).max(1))
+        .enumerate()
+        .for_each(|(strip, out)| {
+            let y0 = strip * STRIP;
+            let mut sum = vec![0.0f32; w];
+            // The window above row y0, with the row its first step drops.
+            let top = if y0 > radius { y0 - radius - 1 } else { 0 };
+            for y in top..(y0 + radius).min(h) {
+                sum.iter_mut()
+                    .zip(&rows[y * w..][..w])
+                    .for_each(|(s, v)| *s += v);
+            }
+            for (dy, out) in out.chunks_mut(w).enumerate() {
+                let y = y0 + dy;
+                if y + radius < h {
+                    let add = &rows[(y + radius) * w..][..w];
+                    sum.iter_mut().zip(add).for_each(|(s, v)| *s += v);
+                }
+                if y > radius {
+                    let sub = &rows[(y - radius - 1) * w..][..w];
+                    sum.iter_mut().zip(sub).for_each(|(s, v)| *s -= v);
+                }
+                let n = ((y + radius).min(h - 1) + 1 - y.saturating_sub(radius)) as f32;
+                out.iter_mut().zip(&sum).for_each(|(o, s)| *o = s / n);
+            }
+        });
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn box_blur_matches_a_plain_window_mean() {
+        let (w, h, r) = (23, 150, 3);
+        let v: Vec<f32> = (0..w * h).map(|i| ((i * 37) % 29) as f32).collect();
+        let got = box_blur(&v, w, h, r);
+        for y in 0..h {
+            for x in 0..w {
+                let (mut s, mut n) = (0.0, 0.0);
+                for yy in y.saturating_sub(r)..(y + r + 1).min(h) {
+                    for xx in x.saturating_sub(r)..(x + r + 1).min(w) {
+                        s += v[yy * w + xx];
+                        n += 1.0;
+                    }
+                }
+                let want = s / n;
+                assert!((got[y * w + x] - want).abs() < 1e-3, "({x}, {y})");
+            }
+        }
+    }
 
     /// The deposit on red brick is redder than on grey stone, darker than
     /// either wall, and duller (less chroma) than the brick.
