@@ -244,7 +244,16 @@ impl Rectifier {
                     alpha: out,
                 }
             }
-            LayerPixels::Rgba(img) => {
+            // A per-pixel colour map is unrectified with its layer's alpha.
+            LayerPixels::Rgba(_) | LayerPixels::Painted { .. } => {
+                let painted;
+                let img = match &layer.pixels {
+                    LayerPixels::Rgba(img) => img,
+                    _ => {
+                        painted = layer.to_rgba();
+                        &painted
+                    }
+                };
                 let mut out = RgbaImage::new(photo_w, photo_h);
                 out.par_chunks_mut(photo_w as usize * 4)
                     .enumerate()
@@ -468,6 +477,7 @@ mod tests {
         preset.rain.drip_spacing_m = 0.0;
         preset.rain.end_share = 0.0;
         preset.rain.fall_m = 0.0;
+        preset.stain.wall_hue = 0.0;
         let out = in_plane(&scene, quad, &preset);
         let LayerPixels::Tint { alpha, .. } = &out.stack.layers[0].pixels else {
             panic!("tint")

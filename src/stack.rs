@@ -12,7 +12,9 @@
 //! multiply: out = b + (b * c - b) * a * o
 //! ```
 
-use image::{DynamicImage, GrayImage, ImageBuffer, Rgba, RgbaImage};
+use std::sync::Arc;
+
+use image::{DynamicImage, GrayImage, ImageBuffer, RgbImage, Rgba, RgbaImage};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -55,6 +57,16 @@ pub enum LayerPixels {
     },
     /// Colour and coverage per pixel, straight alpha (moss, dust film).
     Rgba(RgbaImage),
+    /// Colour per pixel from a map layers share (the rain's deposit takes
+    /// the local wall's hue in every rainfall), coverage per layer: the
+    /// same pixels as an [`LayerPixels::Rgba`] of the map's colour and this
+    /// alpha, a quarter of the memory per layer.
+    Painted {
+        /// The colour, sRGB, of the layer's size.
+        color: Arc<RgbImage>,
+        /// Coverage, 0 = transparent.
+        alpha: GrayImage,
+    },
 }
 
 /// One named layer of the stack.
@@ -79,7 +91,7 @@ impl Layer {
     /// Width in pixels.
     pub fn width(&self) -> u32 {
         match &self.pixels {
-            LayerPixels::Tint { alpha, .. } => alpha.width(),
+            LayerPixels::Tint { alpha, .. } | LayerPixels::Painted { alpha, .. } => alpha.width(),
             LayerPixels::Rgba(img) => img.width(),
         }
     }
@@ -87,7 +99,7 @@ impl Layer {
     /// Height in pixels.
     pub fn height(&self) -> u32 {
         match &self.pixels {
-            LayerPixels::Tint { alpha, .. } => alpha.height(),
+            LayerPixels::Tint { alpha, .. } | LayerPixels::Painted { alpha, .. } => alpha.height(),
             LayerPixels::Rgba(img) => img.height(),
         }
     }
@@ -99,6 +111,10 @@ impl Layer {
                 [color[0], color[1], color[2], alpha.get_pixel(x, y)[0]]
             }
             LayerPixels::Rgba(img) => img.get_pixel(x, y).0,
+            LayerPixels::Painted { color, alpha } => {
+                let [r, g, b] = color.get_pixel(x, y).0;
+                [r, g, b, alpha.get_pixel(x, y)[0]]
+            }
         }
     }
 
@@ -116,6 +132,13 @@ impl Layer {
             LayerPixels::Rgba(img) => {
                 out.copy_from_slice(&img.as_raw()[y * w * 4..(y + 1) * w * 4])
             }
+            LayerPixels::Painted { color, alpha } => {
+                let row = &alpha.as_raw()[y * w..(y + 1) * w];
+                let rgb = &color.as_raw()[y * w * 3..(y + 1) * w * 3];
+                for ((o, &a), c) in out.chunks_exact_mut(4).zip(row).zip(rgb.chunks_exact(3)) {
+                    o.copy_from_slice(&[c[0], c[1], c[2], a]);
+                }
+            }
         }
     }
 
@@ -128,13 +151,19 @@ impl Layer {
                 })
             }
             LayerPixels::Rgba(img) => img.clone(),
+            LayerPixels::Painted { color, alpha } => {
+                RgbaImage::from_fn(alpha.width(), alpha.height(), |x, y| {
+                    let [r, g, b] = color.get_pixel(x, y).0;
+                    Rgba([r, g, b, alpha.get_pixel(x, y)[0]])
+                })
+            }
         }
     }
 
     /// Coverage of the whole layer: mean alpha in 0..1.
     pub fn coverage(&self) -> f64 {
         let (sum, n) = match &self.pixels {
-            LayerPixels::Tint { alpha, .. } => (
+            LayerPixels::Tint { alpha, .. } | LayerPixels::Painted { alpha, .. } => (
                 alpha.as_raw().par_iter().map(|&a| a as u64).sum::<u64>(),
                 alpha.as_raw().len(),
             ),
@@ -325,6 +354,21 @@ fn blend_layer_row(
                 ];
                 let px = &mut acc[x * channels..x * channels + 3];
                 blend_pixel(blend, px, c, s[3] as f32 * o);
+            }
+        }
+        LayerPixels::Painted { color, alpha } => {
+            let alpha = &alpha.as_raw()[y * wu..(y + 1) * wu];
+            let rgb = &color.as_raw()[y * wu * 3..(y + 1) * wu * 3];
+            for (x, &a) in alpha.iter().enumerate().filter(|(_, a)| **a != 0) {
+                touched[x] = true;
+                let s = &rgb[x * 3..x * 3 + 3];
+                let c = [
+                    s[0] as f32 / 255.0,
+                    s[1] as f32 / 255.0,
+                    s[2] as f32 / 255.0,
+                ];
+                let px = &mut acc[x * channels..x * channels + 3];
+                blend_pixel(blend, px, c, a as f32 * o);
             }
         }
     }

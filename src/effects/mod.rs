@@ -185,7 +185,9 @@ impl Effect {
         };
         match self {
             Effect::Rain => match path {
-                "stain.color" | "stain.opacity" | "stain.washed_color" => true,
+                "stain.opacity" | "stain.washed_color" => true,
+                // A deposit's colour map is made from the dirt's colour.
+                "stain.color" => old.stain.wall_hue == 0.0 && new.stain.wall_hue == 0.0,
                 // The washed layer exists on both sides.
                 "stain.washed_opacity" => {
                     old.stain.washed_opacity > 0.0 && new.stain.washed_opacity > 0.0
@@ -395,10 +397,14 @@ mod tests {
 
     #[test]
     fn stain_colour_restyles_and_dust_alone_stays_dust() {
-        let old = Preset::default();
+        let mut old = Preset::default();
         let mut new = old.clone();
         new.stain.color = [1, 2, 3];
         new.stain.opacity = 0.3;
+        // A deposit's colour map is made from the dirt's colour.
+        assert!(stale(&old, &new).contains(&Effect::Rain));
+        old.stain.wall_hue = 0.0;
+        new.stain.wall_hue = 0.0;
         assert!(stale(&old, &new).is_empty());
         new.dust.days += 1;
         assert_eq!(stale(&old, &new), BTreeSet::from([Effect::Dust]));

@@ -73,21 +73,32 @@ pub(super) fn rain(
     let d_max = rain::stain::d_max(&out.layers, preset.stain.percentile);
     let mut layers = Vec::with_capacity(out.layers.len() + 1);
     let mut layer_stats = Vec::with_capacity(out.layers.len() + 1);
+    let stain = &preset.stain;
+    // The deposit's colour, the same for every rainfall.
+    let deposit = (stain.wall_hue > 0.0 && !out.layers.is_empty())
+        .then(|| Arc::new(rain::deposit::colors(ctx, stain.color, stain.wall_hue)));
     for (i, rl) in out.layers.iter().enumerate() {
         progress.check()?;
         progress.update("stain", 0.87 + 0.13 * i as f32 / out.layers.len() as f32);
-        let pixels = LayerPixels::Tint {
-            color: preset.stain.color,
-            alpha: stainer.rainfall(&rl.deposit, d_max),
+        let alpha = stainer.rainfall(&rl.deposit, d_max);
+        let (pixels, blend) = match &deposit {
+            Some(color) => (
+                LayerPixels::Painted {
+                    color: Arc::clone(color),
+                    alpha,
+                },
+                BlendMode::Normal,
+            ),
+            None => (
+                LayerPixels::Tint {
+                    color: stain.color,
+                    alpha,
+                },
+                BlendMode::Multiply,
+            ),
         };
         let name = format!("rain {:02}", i + 1);
-        layers.push(layer(
-            Effect::Rain,
-            name,
-            preset.stain.opacity,
-            BlendMode::Multiply,
-            pixels,
-        ));
+        layers.push(layer(Effect::Rain, name, stain.opacity, blend, pixels));
         layer_stats.push(Some(rl.stats.clone()));
     }
     if let Some(washed) = &out.washed {
@@ -153,6 +164,9 @@ struct Stainer<'a> {
     /// The soot laid in the rain shelter between rainfalls, made for the
     /// first rainfall (a washed layer alone needs none).
     soot: Option<rain::soot::Soot>,
+    /// Where a deposit settles ([`rain::deposit::catch`]), made for the
+    /// first rainfall when the dirt is a deposit (`stain.wall_hue`).
+    catch: Option<GrayImage>,
 }
 
 impl<'a> Stainer<'a> {
@@ -207,6 +221,7 @@ impl<'a> Stainer<'a> {
                 ctx.grid_px(1.0),
             ),
             soot: None,
+            catch: None,
         }
     }
 
@@ -249,6 +264,11 @@ impl<'a> Stainer<'a> {
                 soot.lay(cover);
             }
             self.film.lay(cover);
+            if preset.stain.wall_hue > 0.0 {
+                let catch = self.catch.get_or_insert_with(|| rain::deposit::catch(ctx));
+                let (w, h) = ctx.size();
+                return ctx.grid.upsample(cover, Some(catch), w, h);
+            }
         }
         let (w, h) = self.ctx.size();
         self.ctx.grid.upsample(cover, self.ctx.mask, w, h)
@@ -321,7 +341,8 @@ fn top_rows(region: &crate::field::RowMajor<bool>) -> Vec<Option<usize>> {
 
 /// A rain layer follows the preset's stain colour and opacity, and shows
 /// only the first `rain.layers` rainfalls; the washed runs follow their own
-/// colour and opacity.
+/// colour and opacity. A deposit's colour map stays (it follows
+/// `stain.color` through a new run, [`super::Effect::restyles`]).
 pub(super) fn restyle_rain(layer: &mut Layer, index: usize, preset: &Preset) {
     if layer.name == WASHED {
         layer.opacity = preset.stain.washed_opacity;

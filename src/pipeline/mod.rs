@@ -397,6 +397,9 @@ mod tests {
         let raw = |l: &crate::stack::Layer| match &l.pixels {
             LayerPixels::Tint { alpha, .. } => alpha.as_raw().clone(),
             LayerPixels::Rgba(img) => img.as_raw().clone(),
+            LayerPixels::Painted { color, alpha } => {
+                [color.as_raw().clone(), alpha.as_raw().clone()].concat()
+            }
         };
         out.stack.layers.iter().map(raw).collect()
     }

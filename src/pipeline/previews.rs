@@ -249,6 +249,14 @@ fn mix_layers(a: &[Layer], b: &[Layer], t: f32) -> Vec<Layer> {
                             .unwrap_or_else(|| xa.clone()),
                     }
                 }
+                (
+                    LayerPixels::Painted { color, alpha: xa },
+                    LayerPixels::Painted { alpha: xb, .. },
+                ) if xa.dimensions() == xb.dimensions() => LayerPixels::Painted {
+                    color: Arc::clone(color),
+                    alpha: GrayImage::from_raw(xa.width(), xa.height(), lerp_bytes(xa, xb, t))
+                        .unwrap_or_else(|| xa.clone()),
+                },
                 (LayerPixels::Rgba(xa), LayerPixels::Rgba(xb))
                     if xa.dimensions() == xb.dimensions() =>
                 {
@@ -289,6 +297,14 @@ fn fade(l: &Layer, t: f32) -> Layer {
             let mut img = img.clone();
             img.par_chunks_mut(4).for_each(|p| p[3] = scale(p[3], t));
             LayerPixels::Rgba(img)
+        }
+        LayerPixels::Painted { color, alpha } => {
+            let mut alpha = alpha.clone();
+            alpha.par_iter_mut().for_each(|v| *v = scale(*v, t));
+            LayerPixels::Painted {
+                color: Arc::clone(color),
+                alpha,
+            }
         }
     };
     with_pixels(l, pixels)
@@ -334,6 +350,10 @@ fn shrunk(l: &Layer, w: u32, h: u32) -> Layer {
             alpha: buffer_to_size(alpha, w, h),
         },
         LayerPixels::Rgba(img) => LayerPixels::Rgba(buffer_to_size(img, w, h)),
+        LayerPixels::Painted { color, alpha } => LayerPixels::Painted {
+            color: Arc::new(buffer_to_size(&**color, w, h)),
+            alpha: buffer_to_size(alpha, w, h),
+        },
     };
     with_pixels(l, pixels)
 }
@@ -404,7 +424,7 @@ mod tests {
             LayerPixels::Rgba(img) => {
                 assert_eq!(img.as_raw()[..8], [0, 0, 200, 128, 0, 200, 0, 50])
             }
-            LayerPixels::Tint { .. } => panic!("not RGBA"),
+            LayerPixels::Tint { .. } | LayerPixels::Painted { .. } => panic!("not RGBA"),
         }
         assert!(mix_layers(&[], &[], 0.5).is_empty());
     }

@@ -46,6 +46,7 @@ pub fn builtin(name: &str) -> Result<Preset> {
             p.stain.blur_m = 0.0;
             p.stain.washed_opacity = 0.0;
             p.stain.soot = 0.0;
+            p.stain.wall_hue = 0.0;
             p.stain.softness = 0.8;
             p.moss.baseline = 1.0 / 40.0;
             p.moss.mixed_species = false;

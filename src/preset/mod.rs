@@ -286,6 +286,11 @@ pub struct StainParams {
     /// Share of a full soot film laid under eaves, cornices and balconies
     /// between two rainfalls (the rain shelter); 0 = none.
     pub soot: f32,
+    /// The rain's dirt as a deposit that takes the local wall's hue: the
+    /// share of the wall's own chroma in it (the rest `color`'s), painted
+    /// over the wall so it hides the grain where thick; 0 = `color`
+    /// multiplied onto the wall (Chang's).
+    pub wall_hue: f32,
 }
 
 impl Default for StainParams {
@@ -300,6 +305,7 @@ impl Default for StainParams {
             washed_color: [200, 196, 186],
             washed_opacity: 0.35,
             soot: crate::effects::rain::soot::PER_RAINFALL,
+            wall_hue: 0.6,
         }
     }
 }

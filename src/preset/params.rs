@@ -361,6 +361,13 @@ pub(super) const CORE: &[ParamSpec] = &[
         1.0,
     ),
     p(
+        "stain.wall_hue",
+        "",
+        "The rain's dirt as a deposit painted over the wall (hiding its grain where thick), as dark as stain.color but with this share of the local wall's own hue (soot on brick brown-black, on stone grey-black); 0 = stain.color multiplied onto the wall",
+        0.0,
+        1.0,
+    ),
+    p(
         "moss.enabled",
         "",
         "Grow moss (a \"moss\" layer above the rain layers)",

@@ -51,6 +51,29 @@ const FLOOR: f32 = 0.04;
 /// `tests/streaks.rs` rose from 0.03 to 0.22].
 const DRIP_SPREAD: f32 = 0.9;
 
+/// Standard deviation of a release point's log width [choice: 0.4, so
+/// one streak starts twice as wide as its neighbour about one time in
+/// four; with one width for all, the streaks under a row of sills and
+/// along siding read as stamped columns of equal width (blind review 21,
+/// tell 3)]; at most [`WIDEST`] times the mean width, at least its
+/// inverse.
+const WIDTH_SPREAD: f32 = 0.4;
+
+/// The widest release point, in mean release widths.
+const WIDEST: f32 = 2.5;
+
+/// Standard deviation of the log share of a ledge's two ends [choice: 0.5:
+/// no sill is level, so one end of it drains more, and its streak runs
+/// longer (`fall.rs`); with equal halves every sill shed a pair of equal
+/// streaks (blind review 21, tell 3)].
+const END_SPREAD: f32 = 0.5;
+
+/// A release point's width, in mean release widths (log-normal).
+fn width_factor(rng: &mut crate::random::Rng) -> f32 {
+    let (z, _) = crate::random::box_muller(rng);
+    (WIDTH_SPREAD * z).exp().clamp(1.0 / WIDEST, WIDEST)
+}
+
 /// The closest two drip points come, as a share of the mean spacing
 /// [choice: gaps are this plus an exponential share of the rest, a
 /// coefficient of variation of 0.7; with uniform gaps of 0.5..1.5 (0.29)
@@ -90,22 +113,37 @@ impl Warp {
             return None;
         }
         let n = len.ceil() as usize + 1;
-        // Release points (centre, weight).
-        let mut points = vec![(0.0, r.end_share / 2.0), (len, r.end_share / 2.0)];
+        // Release points (centre, weight, width factor); the two ends
+        // share theirs unequally (no ledge is level).
+        let (z0, z1) = crate::random::box_muller(rng);
+        let ends = [z0, z1].map(|z| (END_SPREAD * z).exp());
+        let end = |k: usize| ends[k] / (ends[0] + ends[1]);
+        let mut points = vec![
+            (0.0, r.end_share * end(0), width_factor(rng)),
+            (len, r.end_share * end(1), width_factor(rng)),
+        ];
         let drips = drips(len, r.spacing, rng);
         let drip_total: f32 = drips.iter().map(|d| d.1).sum();
         let drip_share = 1.0 - r.end_share.clamp(0.0, 1.0);
         if drip_total > 0.0 {
-            points.extend(drips.iter().map(|&(c, w)| (c, w / drip_total * drip_share)));
+            points.extend(
+                drips
+                    .iter()
+                    .map(|&(c, w, f)| (c, w / drip_total * drip_share, f)),
+            );
         } else {
             // A ledge shorter than the spacing sheds everything at its ends.
-            points.iter_mut().for_each(|p| p.1 = 0.5);
+            points
+                .iter_mut()
+                .enumerate()
+                .for_each(|(k, p)| p.1 = end(k));
         }
         let width = r.width.max(0.5);
         let mix = |u: f32, width: f32| -> f32 {
             points
                 .iter()
-                .map(|&(c, w)| {
+                .map(|&(c, w, f)| {
+                    let width = width * f;
                     let z = (u - c) / width;
                     w * (-0.5 * z * z).exp() / (width * 2.506_628)
                 })
@@ -180,13 +218,13 @@ impl Warp {
 
 /// The drip points along a ledge `len` long: (position, share of the
 /// drips' water before normalising), about `spacing` apart.
-fn drips(len: f32, spacing: f32, rng: &mut crate::random::Rng) -> Vec<(f32, f32)> {
+fn drips(len: f32, spacing: f32, rng: &mut crate::random::Rng) -> Vec<(f32, f32, f32)> {
     use rand::Rng as _;
     let mut drips = Vec::new();
     let mut x = spacing * rng.random_range(0.2..1.0);
     while x < len - 0.2 * spacing {
         let (z, _) = crate::random::box_muller(rng);
-        drips.push((x, (DRIP_SPREAD * z).exp()));
+        drips.push((x, (DRIP_SPREAD * z).exp(), width_factor(rng)));
         let exp = -(1.0 - rng.random::<f32>()).ln();
         x += spacing * (CLOSEST + (1.0 - CLOSEST) * exp);
     }
