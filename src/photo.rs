@@ -81,6 +81,23 @@ impl Photo {
         }
     }
 
+    /// The colour at `(x, y)`, 0..255 per channel.
+    pub fn rgb_at(&self, x: u32, y: u32) -> [f32; 3] {
+        match &self.image {
+            DynamicImage::ImageRgb8(i) => i.get_pixel(x, y).0.map(f32::from),
+            DynamicImage::ImageRgba8(i) => {
+                let [r, g, b, _] = i.get_pixel(x, y).0;
+                [r, g, b].map(f32::from)
+            }
+            DynamicImage::ImageRgb16(i) => i.get_pixel(x, y).0.map(|v| f32::from(v) / 257.0),
+            DynamicImage::ImageRgba16(i) => {
+                let [r, g, b, _] = i.get_pixel(x, y).0;
+                [r, g, b].map(|v| f32::from(v) / 257.0)
+            }
+            _ => unreachable!("Photo::new normalises the layout"),
+        }
+    }
+
     /// Consumes the photo, returning its pixels.
     pub fn into_image(self) -> DynamicImage {
         self.image

@@ -16,7 +16,7 @@
 //! every pixel toward the same colour, so the grain's contrast falls by
 //! the coverage.
 
-use image::{DynamicImage, GrayImage, RgbImage};
+use image::{GrayImage, RgbImage};
 use rayon::prelude::*;
 
 use crate::effects::Context;
@@ -49,26 +49,6 @@ pub fn deposit_color(wall: [f32; 3], dirt: [u8; 3], wall_hue: f32) -> [f32; 3] {
     })
 }
 
-/// The photo's colour at `(x, y)`, 0..255.
-fn rgb_at(image: &DynamicImage, x: u32, y: u32) -> [f32; 3] {
-    match image {
-        DynamicImage::ImageRgb8(i) => i.get_pixel(x, y).0.map(f32::from),
-        DynamicImage::ImageRgba8(i) => {
-            let p = i.get_pixel(x, y).0;
-            [p[0], p[1], p[2]].map(f32::from)
-        }
-        DynamicImage::ImageRgb16(i) => i.get_pixel(x, y).0.map(|v| f32::from(v) / 257.0),
-        DynamicImage::ImageRgba16(i) => {
-            let p = i.get_pixel(x, y).0;
-            [p[0], p[1], p[2]].map(|v| f32::from(v) / 257.0)
-        }
-        other => {
-            let p = other.to_rgb8().get_pixel(x, y).0;
-            p.map(f32::from)
-        }
-    }
-}
-
 /// The deposit colour map at the photo's size: [`deposit_color`] of the
 /// wall's local mean colour, which is sampled at the grid's cells and
 /// averaged over the region within [`LOCAL_M`], then upsampled.
@@ -76,14 +56,13 @@ pub fn colors(ctx: &Context, dirt: [u8; 3], wall_hue: f32) -> RgbImage {
     let grid = ctx.grid;
     let (gw, gh) = (grid.width, grid.height);
     let (pw, ph) = (ctx.photo.width(), ctx.photo.height());
-    let image = ctx.photo.image();
     let samples: Vec<[f32; 3]> = (0..gw * gh)
         .into_par_iter()
         .map(|i| {
             let (x, y) = grid.to_photo((i % gw) as f32 + 0.5, (i / gw) as f32 + 0.5);
             let x = (x.max(0.0) as u32).min(pw.saturating_sub(1));
             let y = (y.max(0.0) as u32).min(ph.saturating_sub(1));
-            rgb_at(image, x, y)
+            ctx.photo.rgb_at(x, y)
         })
         .collect();
     let radius = ctx.grid_px(LOCAL_M).round().max(1.0) as usize;
