@@ -10,7 +10,7 @@
 
 use std::sync::Arc;
 
-use image::{GrayImage, RgbaImage};
+use image::{GrayImage, RgbImage, RgbaImage};
 use rayon::prelude::*;
 
 use super::frames::{Below, Frame, check_frame};
@@ -68,13 +68,20 @@ pub fn run_previews(
         .filter(|e| *e != Effect::Rain && e.enabled(last))
         .filter(|e| frames.iter().any(|f| stale(last, f).contains(e)))
         .collect();
-    // Every other layer is the full-size run's, shrunk once.
+    // Every other layer is the full-size run's, shrunk once; the rain
+    // layers' shared colour map too.
+    let painted = full.stack.layers.iter().find_map(|l| match &l.pixels {
+        LayerPixels::Painted { color, .. } => {
+            Some((Arc::clone(color), Arc::new(buffer_to_size(&**color, w, h))))
+        }
+        _ => None,
+    });
     let shared: Vec<Layer> = full
         .stack
         .layers
         .par_iter()
         .filter(|l| !l.kind.is_some_and(|k| own.contains(&k)) && l.name != WASHED)
-        .map(|l| shrunk(l, w, h))
+        .map(|l| shrunk(l, w, h, painted.as_ref()))
         .collect();
     let keys = key_frames(frames);
     let age = |i: usize| frames[i].age.years.map_or(i as f32, |y| y as f32);
@@ -342,8 +349,9 @@ fn mix_rgba(a: &RgbaImage, b: &RgbaImage, t: f32) -> RgbaImage {
     out
 }
 
-/// `l` area-averaged to `w` x `h` ([`crate::shrink`]).
-fn shrunk(l: &Layer, w: u32, h: u32) -> Layer {
+/// `l` area-averaged to `w` x `h` ([`crate::shrink`]); a colour map
+/// shared by painted layers is `painted`'s second when it is its first.
+fn shrunk(l: &Layer, w: u32, h: u32, painted: Option<&(Arc<RgbImage>, Arc<RgbImage>)>) -> Layer {
     let pixels = match &l.pixels {
         LayerPixels::Tint { color, alpha } => LayerPixels::Tint {
             color: *color,
@@ -351,7 +359,10 @@ fn shrunk(l: &Layer, w: u32, h: u32) -> Layer {
         },
         LayerPixels::Rgba(img) => LayerPixels::Rgba(buffer_to_size(img, w, h)),
         LayerPixels::Painted { color, alpha } => LayerPixels::Painted {
-            color: Arc::new(buffer_to_size(&**color, w, h)),
+            color: match painted {
+                Some((full, small)) if Arc::ptr_eq(full, color) => Arc::clone(small),
+                _ => Arc::new(buffer_to_size(&**color, w, h)),
+            },
             alpha: buffer_to_size(alpha, w, h),
         },
     };
