@@ -104,8 +104,9 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
 /// level. A road seen along a street between parked cars runs level too
 /// (Palma IMG_0675): it is kept when its texture coarsens toward the
 /// camera ([`nearer_smoother`] under [`NEARER_SMOOTHER`]), as a plane
-/// seen in perspective does and a facade seen square on does not. A zebra crossing's stripes run level too: two people on it kept
-/// coruna IMG_8106's whole road wall. Saturation is measured under the
+/// seen in perspective does and a facade seen square on does not. A
+/// zebra crossing's stripes run level too: two people on it kept coruna
+/// IMG_8106's whole road wall. Saturation is measured under the
 /// photo's [`Light`].
 fn flat_ground(f: &Features, side: &Sideways, class: &[Class], light: Light, g: &mut [bool]) {
     let (w, h) = (f.w, f.h);
