@@ -232,15 +232,26 @@ fn like_above(
 /// to the `top` limit, the fill was stopped by the limit, not by the
 /// wall's foot (a plaster or stone wall as grey as the pavement, joined to
 /// it by a soft shadow: gerona IMG_2818, insidecity_art625, cambridge
-/// IMG_8934). There, above the bottom fifth, only what lies flat (sideways
-/// share at most [`NARROW_FLAT`]) stays: the far road in a street's
-/// vanishing point does, the wall stands up or has no direction. Once
-/// two thirds of the columns run to the limit the whole part is refused
-/// ([`like_above`]).
+/// IMG_8934). There, above the wall's foot (the median of the rows where
+/// the part's other columns start) and above the bottom fifth, only what
+/// lies flat (sideways share at most [`NARROW_FLAT`]) stays: the far road
+/// in a street's vanishing point does, the wall stands up or has no
+/// direction. Once two thirds of the columns run to the limit the whole
+/// part is refused ([`like_above`]).
 fn off_the_climbs(part: &mut [bool], side: &Sideways, w: usize, h: usize, top: usize) {
     let climbed: Vec<bool> = (0..w).map(|x| part[top * w + x]).collect();
-    let near = h * 4 / 5;
-    part[..near * w]
+    let mut starts: Vec<usize> = (0..w)
+        .filter(|&x| !climbed[x])
+        .filter_map(|x| (top..h).find(|&y| part[y * w + x]))
+        .collect();
+    let foot = if starts.is_empty() {
+        h
+    } else {
+        let mid = starts.len() / 2;
+        *starts.select_nth_unstable(mid).1
+    };
+    let below = foot.min(h * 4 / 5);
+    part[..below * w]
         .par_chunks_mut(w)
         .enumerate()
         .for_each(|(y, row)| {
