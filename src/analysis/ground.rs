@@ -240,10 +240,16 @@ fn like_above(
 /// part is refused ([`like_above`]).
 fn off_the_climbs(part: &mut [bool], side: &Sideways, w: usize, h: usize, top: usize) {
     let climbed: Vec<bool> = (0..w).map(|x| part[top * w + x]).collect();
-    let mut starts: Vec<usize> = (0..w)
-        .filter(|&x| !climbed[x])
-        .filter_map(|x| (top..h).find(|&y| part[y * w + x]))
-        .collect();
+    // The row each column of the part starts at, read row by row.
+    let mut start = vec![h; w];
+    for (y, row) in part.chunks_exact(w).enumerate().skip(top) {
+        for ((s, &p), &c) in start.iter_mut().zip(row).zip(&climbed) {
+            if p && !c && *s == h {
+                *s = y;
+            }
+        }
+    }
+    let mut starts: Vec<usize> = start.into_iter().filter(|&s| s < h).collect();
     let foot = if starts.is_empty() {
         h
     } else {
