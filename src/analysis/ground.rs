@@ -10,6 +10,7 @@
 use rayon::prelude::*;
 
 use super::features::{Features, box_mean, l1};
+use super::perspective::{nearer_smoother, oblique};
 use super::plane::{Sideways, UPRIGHT};
 use super::wall::{Class, flood};
 
@@ -59,10 +60,11 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
                 .map(|i| basic[i] && l1(at(i), model) < GROUND_COLOUR)
                 .collect();
             let seeds = (row + start..row + x).collect();
-            let part = flood(&cand, w, h, seeds, |i, j| {
+            let mut part = flood(&cand, w, h, seeds, |i, j| {
                 l1(steps[i], steps[j]) < GROUND_STEP
             });
             if (wide || lies_flat(&part, side)) && !like_above(&part, &at, w, h, top) {
+                off_the_climbs(&mut part, side, w, h, top);
                 g.iter_mut().zip(&part).for_each(|(a, &b)| *a |= b);
             }
         }
@@ -198,80 +200,6 @@ impl Light {
     }
 }
 
-/// The share of `part`'s luma gradient energy that runs oblique,
-/// sum 2 |gx gy| / sum (gx^2 + gy^2): 0 for edges that run level or
-/// upright, 1 for edges at 45 degrees, 2 / pi for isotropic noise.
-pub(super) fn oblique(f: &Features, part: &[bool]) -> f32 {
-    let (a, b) = (1..f.h.saturating_sub(1))
-        .into_par_iter()
-        .map(|y| {
-            row_sums(f, part, y, |gx, gy| {
-                (2.0 * (gx * gy).abs(), gx * gx + gy * gy)
-            })
-        })
-        .reduce(|| (0.0, 0.0), |p, q| (p.0 + q.0, p.1 + q.1));
-    if b > 0.0 { (a / b) as f32 } else { 0.0 }
-}
-
-/// Over `part`'s pixels in row `y` (not the first or last row), the sums of
-/// `term` of the luma's central differences (gx, gy).
-fn row_sums(
-    f: &Features,
-    part: &[bool],
-    y: usize,
-    term: impl Fn(f32, f32) -> (f32, f32),
-) -> (f64, f64) {
-    let (w, l) = (f.w, &f.luma);
-    let (mut a, mut b) = (0f64, 0f64);
-    for x in 1..w.saturating_sub(1) {
-        let i = y * w + x;
-        if part[i] {
-            let (p, q) = term(l[i + 1] - l[i - 1], l[i + w] - l[i - w]);
-            a += p as f64;
-            b += q as f64;
-        }
-    }
-    (a, b)
-}
-
-/// How much smoother `part` is in its nearer half than in its farther
-/// half: the mean squared luma gradient per pixel of `part` in the rows
-/// from halfway between row `y0` and the bottom down, over the same in the
-/// rows from `y0` to halfway. The texture of a plane seen in perspective
-/// (asphalt's grain, paving, shadows) is magnified toward the camera, so
-/// its gradients per pixel fall (J. J. Gibson, "The Perception of the
-/// Visual World", 1950: the texture gradient); the evenly spaced courses
-/// and grooves of a plinth seen square on keep theirs. Infinite when the
-/// farther half holds none of `part` or no gradient.
-fn nearer_smoother(f: &Features, part: &[bool], y0: usize) -> f32 {
-    let (h, mid) = (f.h, (y0 + f.h) / 2);
-    // Per half: the summed squared gradient and the pixels.
-    let energy = |gx: f32, gy: f32| (gx * gx + gy * gy, 1.0);
-    let (far, near) = (y0.max(1)..h.saturating_sub(1))
-        .into_par_iter()
-        .map(|y| {
-            let sums = row_sums(f, part, y, energy);
-            if y < mid {
-                (sums, (0.0, 0.0))
-            } else {
-                ((0.0, 0.0), sums)
-            }
-        })
-        .reduce(
-            || ((0.0, 0.0), (0.0, 0.0)),
-            |a, b| {
-                (
-                    (a.0.0 + b.0.0, a.0.1 + b.0.1),
-                    (a.1.0 + b.1.0, a.1.1 + b.1.1),
-                )
-            },
-        );
-    if far.0 <= 0.0 {
-        return f32::INFINITY;
-    }
-    ((near.0 / near.1.max(1.0)) / (far.0 / far.1)) as f32
-}
-
 /// True when what lies above the top of `part` (a twelfth of the height
 /// up) looks like the part itself (median colours), or when two thirds of
 /// its columns run up to the `top` limit: a brick of a close-up, the foot of a
@@ -298,6 +226,47 @@ fn like_above(
         return true;
     }
     l1(median3(&mut above), median3(&mut inside)) < LIKE_ABOVE
+}
+
+/// Takes out of `part` what it climbed: in the columns where it runs up
+/// to the `top` limit, the fill was stopped by the limit, not by the
+/// wall's foot (a plaster or stone wall as grey as the pavement, joined to
+/// it by a soft shadow: gerona IMG_2818, insidecity_art625, cambridge
+/// IMG_8934). There, above the wall's foot (the median of the rows where
+/// the part's other columns start) and above the bottom fifth, only what
+/// lies flat (sideways share at most [`NARROW_FLAT`]) stays: the far road
+/// in a street's vanishing point does, the wall stands up or has no
+/// direction. Once two thirds of the columns run to the limit the whole
+/// part is refused ([`like_above`]).
+fn off_the_climbs(part: &mut [bool], side: &Sideways, w: usize, h: usize, top: usize) {
+    let climbed: Vec<bool> = (0..w).map(|x| part[top * w + x]).collect();
+    // The row each column of the part starts at, read row by row.
+    let mut start = vec![h; w];
+    for (y, row) in part.chunks_exact(w).enumerate().skip(top) {
+        for ((s, &p), &c) in start.iter_mut().zip(row).zip(&climbed) {
+            if p && !c && *s == h {
+                *s = y;
+            }
+        }
+    }
+    let mut starts: Vec<usize> = start.into_iter().filter(|&s| s < h).collect();
+    let foot = if starts.is_empty() {
+        h
+    } else {
+        let mid = starts.len() / 2;
+        *starts.select_nth_unstable(mid).1
+    };
+    let below = foot.min(h * 4 / 5);
+    part[..below * w]
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(y, row)| {
+            for (x, p) in row.iter_mut().enumerate() {
+                if climbed[x] && *p && side.at(y * w + x) > NARROW_FLAT {
+                    *p = false;
+                }
+            }
+        });
 }
 
 /// The colour of each pixel, with thin lines (paving joints, up to 2
@@ -721,6 +690,37 @@ pub(super) mod tests {
         assert!(road < 0.1, "{road} of the coarsening road is wall");
         let plinth = level_road(false);
         assert!(plinth > 0.9, "{plinth} of the even courses are wall");
+    }
+
+    /// The share of a grey block called wall: the left half of a 240 x
+    /// 200 photo is grey down to the bottom fifth, 10 levels lighter than
+    /// the pavement under it (the ground fill climbs it to its 45% limit),
+    /// the right half a red shop front; the block is plain (a plaster
+    /// wall) or, when `level`, striped across every 3 rows (a road running
+    /// to the horizon).
+    fn grey_block(level: bool) -> f32 {
+        let (w, h) = (240usize, 200usize);
+        let img = image::RgbImage::from_fn(w as u32, h as u32, |x, y| {
+            image::Rgb(match (x, y) {
+                (_, 160..) => [140; 3],
+                (120.., _) => [180, 60, 50],
+                _ if level && y % 6 < 3 => [140; 3],
+                _ => [150; 3],
+            })
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w as u32);
+        let class = classify(&f);
+        let pavement = wall_in(&class, w, (0, w), (165, h));
+        assert!(pavement < 0.1, "{pavement} of the pavement is wall");
+        wall_in(&class, w, (0, 120), (95, 155))
+    }
+
+    #[test]
+    fn the_ground_fill_does_not_keep_the_wall_it_climbed() {
+        let wall = grey_block(false);
+        assert!(wall > 0.9, "{wall} of the plain wall is wall");
+        let road = grey_block(true);
+        assert!(road < 0.1, "{road} of the level road is wall");
     }
 
     /// The share of the bottom 40% of a 240 x 200 photo called ground:

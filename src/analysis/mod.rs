@@ -28,6 +28,7 @@ mod ground;
 mod ledges;
 mod matte;
 mod overlay;
+mod perspective;
 mod plane;
 mod scale;
 pub mod shelter;

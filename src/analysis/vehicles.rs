@@ -58,7 +58,7 @@ const BAND: f32 = 0.08;
 const UNLIKE: f32 = 0.25;
 
 /// The rule runs when at least this share of the ground's gradient energy
-/// runs oblique ([`super::ground::oblique`]; over the ground of the photos
+/// runs oblique ([`super::perspective::oblique`]; over the ground of the photos
 /// the street test of [`super::plane::settle`] passes, LabelMeFacade train:
 /// quartiles 0.37 / 0.44 / 0.50, CMP: 0.28 / 0.31 / 0.37). Measured by
 /// simulation on main's LabelMeFacade train class dumps, IoU: no test
@@ -516,7 +516,7 @@ fn ground_top(class: &[Class], w: usize, h: usize) -> Vec<usize> {
 /// True when the ground is seen in perspective (see [`PERSPECTIVE`]).
 fn in_perspective(f: &Features, class: &[Class]) -> bool {
     let ground: Vec<bool> = class.iter().map(|&c| c == Class::Ground).collect();
-    super::ground::oblique(f, &ground) >= PERSPECTIVE
+    super::perspective::oblique(f, &ground) >= PERSPECTIVE
 }
 
 /// True in a street scene seen in perspective: the ground covers
