@@ -26,6 +26,7 @@ mod foliage;
 mod glass;
 mod ground;
 mod ledges;
+mod light;
 mod matte;
 mod overlay;
 mod perspective;

@@ -18,7 +18,8 @@
 use rayon::prelude::*;
 
 use super::features::{Features, box_mean};
-use super::ground::{JOINT_BAND, Light};
+use super::ground::JOINT_BAND;
+use super::light::Light;
 use super::wall::{Class, flood};
 
 /// Ground whose sideways share is over this is wall, and what stands up
