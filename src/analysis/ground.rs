@@ -401,6 +401,15 @@ pub(super) mod tests {
     use crate::analysis::wall::classify;
     use crate::photo::Photo;
 
+    /// The classes of `img`, analysed at its own width.
+    fn classes_of(img: image::RgbImage) -> Vec<Class> {
+        let w = img.width();
+        classify(&Features::new(
+            &Photo::new(image::DynamicImage::ImageRgb8(img)),
+            w,
+        ))
+    }
+
     #[test]
     fn a_road_and_a_pavement_of_other_greys_are_both_ground() {
         // An orange wall over a dark road; a pale pavement along the
@@ -415,8 +424,7 @@ pub(super) mod tests {
                 [90; 3]
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 200);
-        let class = classify(&f);
+        let class = classes_of(img);
         let below = (h as usize * 6 / 10 + 3) * w as usize;
         let ground = class[below..]
             .iter()
@@ -443,8 +451,7 @@ pub(super) mod tests {
                 [150; 3]
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 240);
-        classify(&f)
+        classes_of(img)
     }
 
     #[test]
@@ -478,8 +485,7 @@ pub(super) mod tests {
                 [100; 3]
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 240);
-        let class = classify(&f);
+        let class = classes_of(img);
         let road = &class[125 * 240..185 * 240];
         road.iter().filter(|&&c| c == Class::Ground).count() as f32 / road.len() as f32
     }
@@ -528,10 +534,7 @@ pub(super) mod tests {
                 [90; 3]
             })
         });
-        classify(&Features::new(
-            &Photo::new(image::DynamicImage::ImageRgb8(img)),
-            w as u32,
-        ))
+        classes_of(img)
     }
 
     #[test]
@@ -609,8 +612,7 @@ pub(super) mod tests {
                 [165; 3]
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w as u32);
-        let class = classify(&f);
+        let class = classes_of(img);
         let floor = wall_in(&class, w, (0, w), (112, h));
         assert!(floor > 0.9, "{floor} of the shop floor is wall");
     }
@@ -638,8 +640,7 @@ pub(super) mod tests {
                 _ => [104; 3],
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w as u32);
-        let class = classify(&f);
+        let class = classes_of(img);
         let wall = wall_in(&class, w, (0, w), (0, 96));
         assert!(wall > 0.99, "{wall} of the wall is wall");
         wall_in(&class, w, (80, w), (125, 185))
@@ -669,8 +670,7 @@ pub(super) mod tests {
                 _ => [150; 3],
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w as u32);
-        let class = classify(&f);
+        let class = classes_of(img);
         let pavement = wall_in(&class, w, (0, w), (165, h));
         assert!(pavement < 0.1, "{pavement} of the pavement is wall");
         wall_in(&class, w, (0, 120), (95, 155))
@@ -705,8 +705,7 @@ pub(super) mod tests {
                 _ => [100; 3],
             })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w as u32);
-        let class = classify(&f);
+        let class = classes_of(img);
         let wall = wall_in(&class, w, (0, w), (0, 100));
         assert!(wall > 0.95, "{wall} of the wall is wall");
         wall_in(&class, w, (165, w), (125, 145))
@@ -730,8 +729,7 @@ pub(super) mod tests {
         let img = image::RgbImage::from_fn(w as u32, h as u32, |_, y| {
             image::Rgb(if y < 120 { wall } else { foot })
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), w as u32);
-        let class = classify(&f);
+        let class = classes_of(img);
         assert!(
             wall_in(&class, w, (0, w), (0, 115)) > 0.99,
             "the wall is wall"
