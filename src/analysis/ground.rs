@@ -330,7 +330,7 @@ const GRAIN_GROUND: f32 = 0.55;
 /// 0.308 / 0.049, 0.724 / 0.140 / 0.082 / 0.368 / 0.062, 4621 (it adds
 /// two train photos: insidecity_par194 +0.07, boston p1010898 -0.10,
 /// whose dark storey the grain took; held out Palma IMG_0767 +0.04; CMP
-/// 0.3 would add three more facades, 0.35 none).
+/// recall 4621 both).
 const GRAIN_STREET: f32 = 0.35;
 /// The grain is within this colour distance (L1 of the smoothed colours,
 /// 0..3) of the flat part's median. Measured with [`GRAIN_STREET`], as
