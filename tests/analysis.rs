@@ -397,3 +397,46 @@ fn scene_refuses_two_outputs_on_one_file_and_a_missing_folder_up_front() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("output folder does not exist"), "{err}");
 }
+
+/// The share of coarse asphalt called wall in a 240 x 200 street: an
+/// orange storey over a grey plinth of the road's colour and a dark foot
+/// at 55% of the height; below it, the left 100 columns a grey road
+/// marked with white lines `slope` off level (0.577: 30 degrees, in
+/// perspective), the rest coarse grain (blocks of 3 x 3 pixels of the two
+/// `levels` at random: it runs every way, as wet asphalt seen close).
+fn coarse_street(slope: f32, levels: [u8; 2]) -> f32 {
+    let (w, h) = (240usize, 200usize);
+    let img = RgbImage::from_fn(w as u32, h as u32, |x, y| {
+        let (x, y) = (x as usize, y as usize);
+        let mut hash = ((x / 3) * 1000 + y / 3) as u64;
+        hash = hash.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        hash ^= hash >> 29;
+        Rgb(match y {
+            0..60 => [204, 128, 76],
+            60..106 => [100; 3],
+            106..112 => [30; 3],
+            _ if x >= 100 && hash % 5 < 2 => [levels[0]; 3],
+            _ if x >= 100 => [levels[1]; 3],
+            _ if (x as f32 * slope + y as f32) % 24.0 < 3.0 => [230; 3],
+            _ => [100; 3],
+        })
+    });
+    let a = analyse(&Photo::new(DynamicImage::ImageRgb8(img))).unwrap();
+    let wall = |x0: usize, y0: usize, y1: usize| {
+        let n = (y0..y1)
+            .flat_map(|y| (x0..w).map(move |x| y * w + x))
+            .filter(|&i| a.classes[i] == analysis::Class::Wall)
+            .count();
+        n as f32 / ((w - x0) * (y1 - y0)) as f32
+    };
+    assert!(wall(0, 0, 56) > 0.95, "the storey is wall");
+    wall(110, 125, 190)
+}
+
+#[test]
+fn a_street_mostly_of_coarse_asphalt_is_ground() {
+    // The marked road is 0.37 of the bottom fifth, short of a street; with
+    // the grain of its colour it is one.
+    let asphalt = coarse_street(0.577, [94, 108]);
+    assert!(asphalt < 0.5, "{asphalt} of the coarse asphalt is wall");
+}

@@ -25,6 +25,7 @@ mod features;
 mod foliage;
 mod glass;
 mod ground;
+mod joints;
 mod ledges;
 mod light;
 mod matte;

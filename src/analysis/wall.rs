@@ -113,7 +113,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
         || rayon::join(|| sky(f), || super::foliage::Foliage::new(f)),
         || {
             (
-                super::ground::unjoint(f, (h as f32 * super::ground::JOINT_BAND) as usize),
+                super::joints::unjoint(f, (h as f32 * super::ground::JOINT_BAND) as usize),
                 super::plane::Sideways::new(f),
             )
         },
