@@ -720,9 +720,9 @@ fn mean_sd(v: &[f32]) -> (f32, f32) {
 /// Blind review 23: "straight, hard-edged tone steps: the stain stops
 /// where the wall region ends". Streaks that reach the region's end thin
 /// out above it at heights that differ from streak to streak (1 px =
-/// 1 cm): on main (no run-out) 32 of 35 stained columns ended on the
-/// region's last two rows; with the run-out none, their ends' standard
-/// deviation 7 cm. Nothing below the region changes either way.
+/// 1 cm): without the run-out 35 of 37 stained columns end on the
+/// region's last two rows; with it none, their ends' standard deviation
+/// 6.7 cm. Nothing below the region changes either way.
 #[test]
 fn a_stain_reaching_the_regions_end_runs_out_unevenly() {
     let end = 220;
@@ -777,13 +777,13 @@ fn grain_of(dark: &[f32]) -> f32 {
 
 /// Blind review 23: "flat, textureless, see-through grey streaks" on
 /// smooth paint. With `stain.texture` the stain on a flat colour varies
-/// locally (striation, denser and thinner patches): 0.106 of its mean
+/// locally (striation, denser and thinner patches): 0.082 of its mean
 /// darkening against 0.029 for the smooth stain (`texture = 0`).
 #[test]
 fn a_stain_on_flat_paint_has_a_grain() {
     let (photo, out) = flat_paint(300, |_| {});
     let grain = grain_of(&darkening(&photo, &out));
-    assert!(grain > 0.07, "grain {grain}");
+    assert!(grain > 0.06, "grain {grain}");
     let (photo, out) = flat_paint(300, |p| p.stain.texture = 0.0);
     let smooth = grain_of(&darkening(&photo, &out));
     assert!(smooth < 0.05, "smooth {smooth}");

@@ -314,7 +314,7 @@ impl Default for StainParams {
             washed_opacity: 0.35,
             soot: crate::effects::rain::soot::PER_RAINFALL,
             wall_hue: 0.6,
-            texture: 0.4,
+            texture: 0.3,
             run_out_m: 0.3,
         }
     }

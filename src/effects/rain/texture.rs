@@ -56,6 +56,12 @@ pub const RUN_OUT_SPREAD: f32 = 0.7;
 /// 0.12 m, about one streak, so neighbouring streaks end apart].
 pub const RUN_OUT_WIDTH_M: f32 = 0.12;
 
+/// The most of a region's run down to its edge that the run-out takes
+/// [choice: a quarter; at half, the 128 x 96 reference facade (8 cm a
+/// pixel) lost nearly every streak between its cornice and the window
+/// heads below, holes in the region 6 px down].
+pub const RUN_SHARE: f32 = 0.25;
+
 /// Finest noise feature, grid pixels.
 const FINEST_PX: f32 = 2.0;
 
@@ -166,7 +172,8 @@ fn grain(gain: &mut RowMajor<f32>, seed: u64, px_per_m: f32, texture: f32) {
 /// `smoothstep(d / L)`, d the distance down to where the region ends in its
 /// column (the grid's bottom too), L a log-normal length about `run_out_m`
 /// that changes across the wall every [`RUN_OUT_WIDTH_M`] or so, at most
-/// half the region's run down to that edge (a short run keeps a stain).
+/// [`RUN_SHARE`] of the region's run down to that edge (a short run keeps
+/// its stain).
 /// Outside the region the gain is 0: the upsample blends toward it across
 /// the matte's soft edge.
 fn run_out(
@@ -210,7 +217,7 @@ fn run_out(
                 for (k, o) in out[y..end].iter_mut().enumerate() {
                     let row = y + k;
                     let d = (end - row) as f32 - 0.5;
-                    let l = lengths[row * width + x].min(0.5 * run).max(1.0);
+                    let l = lengths[row * width + x].min(RUN_SHARE * run).max(1.0);
                     *o = smoothstep((d / l).clamp(0.0, 1.0));
                 }
             }
