@@ -164,6 +164,9 @@ struct Stainer<'a> {
     /// The soot laid in the rain shelter between rainfalls, made for the
     /// first rainfall (a washed layer alone needs none).
     soot: Option<rain::soot::Soot>,
+    /// The stains' grain and run-out ([`rain::texture`]), made for the
+    /// first rainfall; `None` when both are off.
+    texture: Option<Option<rain::texture::Texture>>,
     /// Where a deposit settles ([`rain::deposit::catch`]), made for the
     /// first rainfall when the dirt is a deposit (`stain.wall_hue`).
     catch: Option<GrayImage>,
@@ -221,6 +224,7 @@ impl<'a> Stainer<'a> {
                 ctx.grid_px(1.0),
             ),
             soot: None,
+            texture: None,
             catch: None,
         }
     }
@@ -264,6 +268,18 @@ impl<'a> Stainer<'a> {
                 soot.lay(cover);
             }
             self.film.lay(cover);
+            let texture = self.texture.get_or_insert_with(|| {
+                rain::texture::Texture::new(
+                    preset.seed,
+                    ctx.region,
+                    ctx.grid_px(1.0),
+                    preset.stain.texture,
+                    preset.stain.run_out_m,
+                )
+            });
+            if let Some(texture) = texture {
+                texture.apply(cover);
+            }
             if preset.stain.wall_hue > 0.0 {
                 let catch = self.catch.get_or_insert_with(|| rain::deposit::catch(ctx));
                 let (w, h) = ctx.size();

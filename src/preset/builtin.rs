@@ -47,6 +47,8 @@ pub fn builtin(name: &str) -> Result<Preset> {
             p.stain.washed_opacity = 0.0;
             p.stain.soot = 0.0;
             p.stain.wall_hue = 0.0;
+            p.stain.texture = 0.0;
+            p.stain.run_out_m = 0.0;
             p.stain.softness = 0.8;
             p.moss.baseline = 1.0 / 40.0;
             p.moss.mixed_species = false;

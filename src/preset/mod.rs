@@ -291,6 +291,14 @@ pub struct StainParams {
     /// over the wall so it hides the grain where thick; 0 = `color`
     /// multiplied onto the wall (Chang's).
     pub wall_hue: f32,
+    /// The stain's grain: the standard deviation of a gain on every
+    /// rainfall's alpha, fine vertical striation and denser and thinner
+    /// patches along the runs (`effects/rain/texture.rs`); 0 = smooth.
+    pub texture: f32,
+    /// How far above the region's lower edges the stains run out, metres
+    /// (a log-normal length about it, differing from streak to streak);
+    /// 0 = they stop at the edge.
+    pub run_out_m: f32,
 }
 
 impl Default for StainParams {
@@ -306,6 +314,8 @@ impl Default for StainParams {
             washed_opacity: 0.35,
             soot: crate::effects::rain::soot::PER_RAINFALL,
             wall_hue: 0.6,
+            texture: 0.3,
+            run_out_m: 0.3,
         }
     }
 }

@@ -368,6 +368,20 @@ pub(super) const CORE: &[ParamSpec] = &[
         1.0,
     ),
     p(
+        "stain.texture",
+        "",
+        "The stain's grain: fine vertical striation and denser and thinner patches along the runs, as the standard deviation of a gain on its coverage (0 = a smooth stain)",
+        0.0,
+        1.0,
+    ),
+    p(
+        "stain.run_out_m",
+        "",
+        "How far above the wall region's lower edges the stains run out, metres, differing from streak to streak (water runs on below; 0 = stains stop at the edge)",
+        0.0,
+        2.0,
+    ),
+    p(
         "moss.enabled",
         "",
         "Grow moss (a \"moss\" layer above the rain layers)",

@@ -11,6 +11,7 @@ pub mod regrid;
 pub mod soot;
 pub mod sources;
 pub mod stain;
+pub mod texture;
 pub mod wall;
 pub mod wander;
 
