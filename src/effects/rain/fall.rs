@@ -16,9 +16,7 @@
 //! times the water leaving above it (in ledge drained per drip spacing,
 //! times the ledge's catch: a rivulet runs until the wall has soaked up
 //! its water, so its length grows with its flow), within [`SHORTEST`]..
-//! [`LONGEST`]: the spec's 0.5 to 2 m at the default 1.5 m, times the
-//! streak's own length factor ([`Warp::length`], within [`FEWEST`]..
-//! [`MOST`]), as a run also ends where the wall drinks it. Its streak
+//! [`LONGEST`]: the spec's 0.5 to 2 m at the default 1.5 m. Its streak
 //! begins where its water meets the wall, `onset` times the warp's onset
 //! noise below the ledge, and darkens over another `onset` (smoothstep), so
 //! the streaks' tops are not one straight line. Past a ledge's ends the
@@ -39,13 +37,6 @@ pub const SHORTEST: f32 = 0.33;
 
 /// Longest fall, as a share of `fall`.
 pub const LONGEST: f32 = 1.33;
-
-/// Shortest and longest fall once a streak's own length factor
-/// ([`super::sources::LENGTH_SPREAD`]) multiplies its water's, as shares
-/// of `fall` [choice: 0.25..1.6, 0.4..2.4 m at the default 1.5 m].
-pub const FEWEST: f32 = 0.25;
-/// See [`FEWEST`].
-pub const MOST: f32 = 1.6;
 
 /// How many `reach`es past its ends a ledge's fade is computed: the
 /// Gaussian side is below 4e-4 there.
@@ -152,8 +143,7 @@ pub fn fade(
             if let Some(warp) = ledge.warp {
                 let u = arc_at(ledge.line, x);
                 let water = warp.water(u) * ledge.catch.max(0.0);
-                let length = water.clamp(SHORTEST, LONGEST) * warp.length(u);
-                top.fall = fall * length.clamp(FEWEST, MOST);
+                top.fall = fall * water.clamp(SHORTEST, LONGEST);
                 top.start = onset * warp.onset(u);
                 top.ramp = onset;
             }

@@ -88,18 +88,6 @@ const WATER_SPREAD: f32 = 3.0;
 /// drips meet the wall changes over a few streak widths.
 const ONSET_KNOTS: f32 = 4.0;
 
-/// How much streaks' lengths differ beyond their water, log-normal
-/// standard deviation of a factor on the fall [choice: 0.45; blind review
-/// 23, tell 3: "evenly spaced parallel streaks fading over similar
-/// lengths": the water's lengths are clamped to `fall.rs`'s 0.33..1.33,
-/// so most streaks sat at one of the two ends; a run also stops where the
-/// wall drinks it, which its water alone does not say].
-pub const LENGTH_SPREAD: f32 = 0.45;
-
-/// Spacing of the length factor's knots along a ledge, in drip spacings:
-/// neighbouring streaks get different lengths.
-const LENGTH_KNOTS: f32 = 0.5;
-
 /// The inverse CDF of a source's release density, tabulated per grid pixel
 /// of its length: `at(u)` maps a uniform position in `0..len` to where the
 /// droplet leaves; with each position's water and onset.
@@ -115,9 +103,6 @@ pub struct Warp {
     /// Per grid pixel along the source: how far below the ledge its water
     /// meets the wall, 0..1 of the onset length (smooth noise).
     onset: Vec<f32>,
-    /// Per grid pixel along the source: a factor on its streak's fall
-    /// ([`LENGTH_SPREAD`]).
-    length: Vec<f32>,
 }
 
 impl Warp {
@@ -188,19 +173,6 @@ impl Warp {
                 knots[k] + (knots[k + 1] - knots[k]) * t
             })
             .collect();
-        // Drawn after everything else: the draws above stay as they were.
-        let knot = (LENGTH_KNOTS * r.spacing).max(2.0 * width);
-        let knots: Vec<f32> = (0..=(len / knot).ceil() as usize + 1)
-            .map(|_| (LENGTH_SPREAD * crate::random::box_muller(rng).0).exp())
-            .collect();
-        let length = (0..n)
-            .map(|i| {
-                let g = i as f32 / knot;
-                let k = (g as usize).min(knots.len() - 2);
-                let t = crate::random::smoothstep((g - k as f32).clamp(0.0, 1.0));
-                knots[k] + (knots[k + 1] - knots[k]) * t
-            })
-            .collect();
         let mut cdf = Vec::with_capacity(n);
         let mut total = 0.0;
         for d in &density {
@@ -220,7 +192,6 @@ impl Warp {
             inverse,
             water,
             onset,
-            length,
         })
     }
 
@@ -242,11 +213,6 @@ impl Warp {
     /// the onset length.
     pub fn onset(&self, u: f32) -> f32 {
         sample(&self.onset, u)
-    }
-
-    /// The factor on the fall of the streak leaving at arc length `u`.
-    pub fn length(&self, u: f32) -> f32 {
-        sample(&self.length, u)
     }
 }
 
