@@ -546,7 +546,19 @@ fn brick_and_stone(wall_hue: f32) -> (RgbImage, Outcome) {
         };
         Rgb(base.map(|v: f32| (v + g).clamp(0.0, 255.0) as u8))
     });
-    let scene = Scene::new(Photo::new(DynamicImage::ImageRgb8(photo.clone())), None)
+    let out = one_ledge_rain(&photo, None, |p| p.stain.wall_hue = wall_hue);
+    (photo, out)
+}
+
+/// `photo` (400 px wide, 1 cm per pixel) aged by 16 rainfalls alone from
+/// one ledge across it at row 40, with no washed runs and no soot, so
+/// what changes is the stain; `tweak` sets the rest.
+fn one_ledge_rain(
+    photo: &RgbImage,
+    mask: Option<image::GrayImage>,
+    tweak: impl Fn(&mut Preset),
+) -> Outcome {
+    let scene = Scene::new(Photo::new(DynamicImage::ImageRgb8(photo.clone())), mask)
         .unwrap()
         .with_site(Site {
             metres_per_pixel: 0.01,
@@ -559,10 +571,10 @@ fn brick_and_stone(wall_hue: f32) -> (RgbImage, Outcome) {
     p.rain.top_edge = false;
     p.rain.layers = 16;
     p.rain.source_lines = vec![vec![[10.0, 40.0], [390.0, 40.0]]];
-    p.stain.wall_hue = wall_hue;
     p.stain.washed_opacity = 0.0;
     p.stain.soot = 0.0;
-    (photo, pipeline::run(&scene, &p, &Progress::none()).unwrap())
+    tweak(&mut p);
+    pipeline::run(&scene, &p, &Progress::none()).unwrap()
 }
 
 /// Under thick stains on one half (`x` in `xs`): the grain's gain (the
@@ -663,27 +675,11 @@ fn flat_paint(end: u32, tweak: impl Fn(&mut Preset)) -> (RgbImage, Outcome) {
     let mask = image::GrayImage::from_fn(400, 300, |_, y| {
         image::Luma([if y < end { 255 } else { 0 }])
     });
-    let scene = Scene::new(
-        Photo::new(DynamicImage::ImageRgb8(photo.clone())),
-        Some(mask),
-    )
-    .unwrap()
-    .with_site(Site {
-        metres_per_pixel: 0.01,
-        ..Site::assumed(400)
-    })
-    .unwrap();
-    let mut p = Preset::default();
-    p.moss.enabled = false;
-    p.dust.enabled = false;
-    p.rain.top_edge = false;
-    p.rain.layers = 16;
-    p.rain.fall_m = 3.0;
-    p.rain.source_lines = vec![vec![[10.0, 40.0], [390.0, 40.0]]];
-    p.stain.washed_opacity = 0.0;
-    p.stain.soot = 0.0;
-    tweak(&mut p);
-    (photo, pipeline::run(&scene, &p, &Progress::none()).unwrap())
+    let out = one_ledge_rain(&photo, Some(mask), |p| {
+        p.rain.fall_m = 3.0;
+        tweak(p);
+    });
+    (photo, out)
 }
 
 /// Per pixel, how many levels of luma the stain took off.

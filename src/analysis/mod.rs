@@ -26,6 +26,7 @@ mod foliage;
 mod glass;
 mod ground;
 mod joints;
+mod ledge_kinds;
 mod ledges;
 mod light;
 mod matte;
