@@ -189,14 +189,10 @@ fn run_out(
     let stretch = 8.0;
     let noise = stretched(seed, RUN_OUT, width, height, across, stretch);
     let mean = run_out_m * px_per_m;
-    let lengths: Vec<f32> = (0..width * height)
-        .into_par_iter()
-        .map(|i| {
-            let (x, y) = ((i % width) as f32, (i / width) as f32 / stretch);
-            let z = (noise.at(x, y) - 0.5) / SPREAD;
-            mean * (RUN_OUT_SPREAD * z).exp()
-        })
-        .collect();
+    let length = |x: usize, y: usize| {
+        let z = (noise.at(x as f32, y as f32 / stretch) - 0.5) / SPREAD;
+        mean * (RUN_OUT_SPREAD * z).exp()
+    };
     // Column by column (a column's runs are found from the bottom up),
     // written back row-major.
     let columns: Vec<Vec<f32>> = (0..width)
@@ -217,7 +213,7 @@ fn run_out(
                 for (k, o) in out[y..end].iter_mut().enumerate() {
                     let row = y + k;
                     let d = (end - row) as f32 - 0.5;
-                    let l = lengths[row * width + x].min(RUN_SHARE * run).max(1.0);
+                    let l = length(x, row).min(RUN_SHARE * run).max(1.0);
                     *o = smoothstep((d / l).clamp(0.0, 1.0));
                 }
             }
