@@ -196,6 +196,7 @@ impl<'a> Stainer<'a> {
                 line,
                 warp: warp.as_ref(),
                 catch: catch(ctx, photo),
+                sure: rain::fall::sure(confidence(ctx, photo), r.sure_at),
             })
             .collect();
         let fall = rain::fall::fade(
@@ -310,6 +311,25 @@ impl<'a> Stainer<'a> {
             pixels,
         )
     }
+}
+
+/// The analysis's confidence in the ledge it found along `line` (photo
+/// pixels, as in `rain.source_lines`): the site's ledge with the same
+/// vertices (within half a pixel, so a preview's scaled lines match); 1
+/// for a line the analysis did not find (a preset's or the user's own).
+fn confidence(ctx: &Context, line: &[[f32; 2]]) -> f32 {
+    let same = |l: &crate::analysis::Ledge| {
+        l.polyline.len() == line.len()
+            && l.polyline
+                .iter()
+                .zip(line)
+                .all(|(a, b)| (a[0] - b[0]).abs() <= 0.5 && (a[1] - b[1]).abs() <= 0.5)
+    };
+    ctx.site
+        .ledges
+        .iter()
+        .find(|l| same(l))
+        .map_or(1.0, |l| l.confidence.clamp(0.0, 1.0))
 }
 
 /// How much rain a ledge (a polyline in photo pixels) catches: 1 minus the

@@ -43,6 +43,7 @@ pub fn builtin(name: &str) -> Result<Preset> {
             p.rain.drip_spacing_m = 0.0;
             p.rain.end_share = 0.0;
             p.rain.fall_m = 0.0;
+            p.rain.sure_at = 0.0;
             p.stain.blur_m = 0.0;
             p.stain.washed_opacity = 0.0;
             p.stain.soot = 0.0;

@@ -221,6 +221,9 @@ pub struct RainParams {
     /// 0 = no fading. Under drip points it follows each point's water,
     /// from a third to 4/3 of this (`effects::rain::fall`).
     pub fall_m: f32,
+    /// A found ledge's confidence at which its streaks show in full; less
+    /// sure ledges show theirs in proportion (`effects::rain::fall`); 0 = all.
+    pub sure_at: f32,
 }
 
 impl Default for RainParams {
@@ -259,6 +262,7 @@ impl Default for RainParams {
             end_share: 0.5,
             release_width_m: 0.06,
             fall_m: 1.5,
+            sure_at: crate::effects::rain::fall::SURE_AT,
         }
     }
 }
@@ -286,16 +290,13 @@ pub struct StainParams {
     /// Share of a full soot film laid under eaves, cornices and balconies
     /// between two rainfalls (the rain shelter); 0 = none.
     pub soot: f32,
-    /// The rain's dirt as a deposit that takes the local wall's hue: the
-    /// share of the wall's own chroma in it (the rest `color`'s), painted
-    /// over the wall so it hides the grain where thick; 0 = `color`
-    /// multiplied onto the wall (Chang's).
+    /// The rain's dirt as a deposit painted over the wall (hiding its grain
+    /// where thick), with this share of the local wall's own chroma (the
+    /// rest `color`'s); 0 = `color` multiplied onto the wall (Chang's).
     pub wall_hue: f32,
-    /// The stain's grain: the standard deviation of a gain on every
-    /// rainfall's alpha, fine vertical striation and denser and thinner
-    /// patches along the runs (`effects/rain/texture.rs`); 0 = smooth, the
-    /// default: at 0.3 a blind pairwise check (docs/blind-review.md, p25)
-    /// found its stripes under cornices read as a comb of drips.
+    /// The stain's grain (`effects/rain/texture.rs`): the deviation of a
+    /// gain on each rainfall's alpha; 0 = smooth, the default (at 0.3 blind
+    /// check p25 found its stripes under cornices a comb of drips).
     pub texture: f32,
     /// How far above the region's lower edges the stains run out, metres
     /// (a log-normal length about it, differing from streak to streak);

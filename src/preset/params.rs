@@ -304,6 +304,13 @@ pub(super) const CORE: &[ParamSpec] = &[
         100.0,
     ),
     p(
+        "rain.sure_at",
+        "",
+        "A found ledge's confidence at which its streaks show in full; a less sure ledge (a joint taken for a sill) shows its streaks in proportion and lets those from above run on through (0 = every ledge in full)",
+        0.0,
+        1.0,
+    ),
+    p(
         "stain.color",
         "",
         "Colour of the rain dirt (sRGB), multiplied onto the wall",
