@@ -30,6 +30,13 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
     let at = |i: usize| [smooth[0][i], smooth[1][i], smooth[2][i]];
     let top = h * 45 / 100;
     let light = Light::of(f, class);
+    // Lawn is vegetation, and tells the pavement below it ([`super::lawn`]).
+    let lawn = super::lawn::lawn(f, side, class, &at, (h as f32 * FLAT_GROUND_FROM) as usize);
+    for (c, &l) in class.iter_mut().zip(&lawn) {
+        if l {
+            *c = Class::Vegetation;
+        }
+    }
     let basic: Vec<bool> = (0..w * h)
         .into_par_iter()
         .map(|i| {
@@ -74,6 +81,8 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
         }
     }
     flat_ground(f, steps, side, class, light, &at, &mut g);
+    let grey = (FLAT_GROUND, FLAT_GROUND_SATURATION, light);
+    super::lawn::below(f, side, class, &lawn, grey, &mut g);
     let (mut at_cap, mut cols) = (0, 0);
     for x in 0..w {
         if let Some(y) = (top..h).find(|&y| g[y * w + x]) {

@@ -26,6 +26,7 @@ mod foliage;
 mod glass;
 mod ground;
 mod joints;
+mod lawn;
 mod ledge_kinds;
 mod ledges;
 mod light;
