@@ -40,14 +40,15 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
             *c = Class::Vegetation;
         }
     }
+    // Wall that could be ground: smooth, not strongly coloured.
+    let groundlike = |i: usize| {
+        class[i] == Class::Wall
+            && f.texture[i] < GROUND_TEXTURE
+            && light.saturation(at(i)) < GROUND_SATURATION
+    };
     let basic: Vec<bool> = (0..w * h)
         .into_par_iter()
-        .map(|i| {
-            i / w >= top
-                && class[i] == Class::Wall
-                && f.texture[i] < GROUND_TEXTURE
-                && light.saturation(at(i)) < GROUND_SATURATION
-        })
+        .map(|i| i / w >= top && groundlike(i))
         .collect();
     let row = (h - 1) * w;
     let mut g = vec![false; w * h];
@@ -75,12 +76,7 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
                 l1(steps[i], steps[j]) < GROUND_STEP
             });
             if (wide || lies_flat(&part, side)) && !like_above(&part, &at, w, h, top) {
-                let like = |i: usize| {
-                    class[i] == Class::Wall
-                        && f.texture[i] < GROUND_TEXTURE
-                        && light.saturation(at(i)) < GROUND_SATURATION
-                        && l1(at(i), model) < GROUND_COLOUR
-                };
+                let like = |i: usize| groundlike(i) && l1(at(i), model) < GROUND_COLOUR;
                 off_the_climbs(&mut part, side, w, h, top, Some(&like));
                 g.iter_mut().zip(&part).for_each(|(a, &b)| *a |= b);
             }

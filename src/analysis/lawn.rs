@@ -13,6 +13,7 @@ use rayon::prelude::*;
 
 use super::features::Features;
 use super::foliage::green_excess;
+use super::glass::components;
 use super::light::Light;
 use super::plane::Sideways;
 use super::wall::{Class, flood};
@@ -108,41 +109,10 @@ fn bands(cand: &[bool], luma: &[f32], w: usize, wide: usize, inside: usize) -> V
         (1..=n).all(|k| k * d <= i && (d == w || (i - k * d) / w == i / w) && cand[i - k * d])
     };
     let mut out = vec![false; w * h];
-    let mut seen = vec![false; w * h];
-    let mut stack = Vec::new();
-    let mut comp = Vec::new();
-    for s in 0..w * h {
-        if !cand[s] || seen[s] {
-            continue;
-        }
-        seen[s] = true;
-        stack.push(s);
-        comp.clear();
-        let (mut x0, mut x1) = (w, 0);
-        while let Some(i) = stack.pop() {
-            comp.push(i);
-            let (x, y) = (i % w, i / w);
-            x0 = x0.min(x);
-            x1 = x1.max(x);
-            let mut visit = |j: usize| {
-                if cand[j] && !seen[j] {
-                    seen[j] = true;
-                    stack.push(j);
-                }
-            };
-            if x > 0 {
-                visit(i - 1);
-            }
-            if x + 1 < w {
-                visit(i + 1);
-            }
-            if y > 0 {
-                visit(i - w);
-            }
-            if y + 1 < h {
-                visit(i + w);
-            }
-        }
+    for comp in components(cand, w, h) {
+        let (x0, x1) = comp
+            .iter()
+            .fold((w, 0), |(a, b), &i| (a.min(i % w), b.max(i % w)));
         let (mut sx, mut sy) = (0f32, 0f32);
         for &i in &comp {
             let deep = |d: usize| back(i, d, inside) && run(i, d, inside + 1);
