@@ -208,13 +208,14 @@ mod tests {
     }
 
     /// A tangle of twigs in the disk of radius `r` about `c`: one-pixel
-    /// lines at every angle, 6 to 30 pixels long, 900 of them: about 60%
-    /// of the disk is on one (the rest shows what is behind).
-    fn twigs(c: (f32, f32), r: f32, w: usize, h: usize) -> Vec<bool> {
+    /// lines at every angle, 6 to 30 pixels long, `n` of them (900 in a
+    /// radius of 60: about 60% of the disk is on one, the rest shows what
+    /// is behind).
+    fn twigs(c: (f32, f32), r: f32, n: usize, w: usize, h: usize) -> Vec<bool> {
         let mut next = uniform(4242);
         let mut on = vec![false; w * h];
         let inside = |x: f32, y: f32| (x - c.0).powi(2) + (y - c.1).powi(2) < r * r;
-        for _ in 0..900 {
+        for _ in 0..n {
             let (x0, y0) = (
                 c.0 + (next() * 2.0 - 1.0) * r,
                 c.1 + (next() * 2.0 - 1.0) * r,
@@ -236,8 +237,8 @@ mod tests {
     /// same twigs, blurred over 7 pixels and faint, as a penumbra is).
     fn wall_with_bare_crown() -> (Features, Vec<bool>, Vec<bool>) {
         let (w, h) = (320usize, 256usize);
-        let crown = twigs((80.0, 110.0), 60.0, w, h);
-        let shade = twigs((240.0, 110.0), 60.0, w, h);
+        let crown = twigs((80.0, 110.0), 60.0, 900, w, h);
+        let shade = twigs((240.0, 110.0), 60.0, 900, w, h);
         // The shadow's darkening: the twigs' share over a 7 x 7 box.
         let share: Vec<f32> = shade.iter().map(|&s| s as u8 as f32).collect();
         let blur = box_mean(&share, w, h, 3);
@@ -286,5 +287,24 @@ mod tests {
         let plain = (0..f.w * f.h).filter(|&i| !crown[i] && !shadow[i] && i % f.w > 180);
         let lost = plain.filter(|&i| class[i] != Class::Wall).count();
         assert_eq!(lost, 0, "{lost} brick pixels");
+    }
+
+    /// A facade whose fine dark ornament points every way all over (the
+    /// crown's tangle, as dense, over the whole photo, on a pale render):
+    /// the photo's own wall is the reference, so nothing stands out and it
+    /// stays wall.
+    #[test]
+    fn a_facade_ornate_all_over_stays_wall() {
+        let (w, h) = (320usize, 256usize);
+        let ornament = twigs((160.0, 128.0), 205.0, 10500, w, h);
+        let img = image::RgbImage::from_fn(w as u32, h as u32, |x, y| {
+            let on = ornament[y as usize * w + x as usize];
+            image::Rgb(if on { [90, 85, 80] } else { [200, 190, 175] })
+        });
+        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 320);
+        let mut class = vec![Class::Wall; f.w * f.h];
+        Foliage::new(&f).twigs(&f, &mut class);
+        let lost = class.iter().filter(|&&c| c != Class::Wall).count();
+        assert_eq!(lost, 0, "{lost} ornate wall pixels");
     }
 }
