@@ -150,7 +150,7 @@ fn crown_gaps(
 /// Grey-scale closing (Serra, "Image analysis and mathematical
 /// morphology", 1982): the max then the min over a (2r+1)^2 box, each
 /// separable; dark lines narrower than 2r+1 vanish.
-fn close(src: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
+pub(super) fn close(src: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
     let wider = extreme(src, w, h, r, f32::max);
     extreme(&wider, w, h, r, f32::min)
 }

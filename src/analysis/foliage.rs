@@ -34,6 +34,7 @@
 use rayon::prelude::*;
 
 use super::features::{Features, box_mean};
+use super::twigs::Twigs;
 use super::wall::Class;
 
 /// The grid the gradients are summed on is at most this long.
@@ -143,6 +144,8 @@ pub struct Foliage {
     k: usize,
     /// Grid width.
     gw: usize,
+    /// Per cell: the signs of a bare crown.
+    twigs: Twigs,
 }
 
 impl Foliage {
@@ -181,6 +184,7 @@ impl Foliage {
             texture,
             k,
             gw,
+            twigs: Twigs::new(f, &sums, k, gw, gh),
         }
     }
 
@@ -247,6 +251,15 @@ impl Foliage {
                 }
             }
         });
+    }
+}
+
+impl Foliage {
+    /// Turns wall pixels into vegetation where the signs of a bare crown
+    /// (thin dark lines and gradients every way, more than on the photo's
+    /// wall: [`Twigs`]) hold over a blob. Run on the final classes.
+    pub fn twigs(&self, f: &Features, class: &mut [Class]) {
+        self.twigs.mark(f.w, self.k, self.gw, class);
     }
 }
 

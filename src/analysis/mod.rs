@@ -38,6 +38,7 @@ mod scale;
 pub mod shelter;
 mod sky_windows;
 pub mod synthetic;
+mod twigs;
 mod vehicles;
 mod wall;
 

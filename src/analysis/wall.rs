@@ -169,6 +169,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
     super::plane::settle(f, &side, &mut class);
     super::appearance::relabel(f, &side, &mut class);
     leaves.fringe(f, &mut class);
+    leaves.twigs(f, &mut class);
     let other = class.iter().filter(|&&c| c != Class::Wall).count();
     if (other as f32) < CLOSE_UP * n as f32 {
         class.iter_mut().for_each(|c| *c = Class::Wall);
