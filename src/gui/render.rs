@@ -354,7 +354,8 @@ mod tests {
     use super::*;
 
     fn rain_only(p: &mut Preset) {
-        for effect in ["moss", "dust"] {
+        // The foot's soiling follows the rainfalls too: made anew.
+        for effect in ["moss", "dust", "foot"] {
             let _ = p.set(&format!("{effect}.enabled=false"));
         }
     }
