@@ -49,6 +49,7 @@ fn preset(rainfalls: u32) -> Preset {
     };
     p.rain.layers = rainfalls;
     p.rain.droplets = 20;
+    p.foot.enabled = true;
     p.moss.enabled = false;
     p.dust.enabled = false;
     p

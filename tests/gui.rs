@@ -148,8 +148,6 @@ fn error_message(h: &Harness<'static, GrimeApp>) -> String {
 fn rain_only(p: &mut Preset) {
     p.moss.enabled = false;
     p.dust.enabled = false;
-    // The foot's soiling follows the rainfalls too: made anew, not restyled.
-    p.foot.enabled = false;
 }
 
 #[test]

@@ -431,6 +431,7 @@ mod tests {
     fn fewer_rainfalls_restyle_only_when_nothing_reads_the_final_wall() {
         let mut old = Preset::default();
         old.moss.enabled = false;
+        old.foot.enabled = true;
         let mut new = old.clone();
         new.rain.layers -= 1;
         // The washed runs sum every rainfall: they need the new count.

@@ -354,8 +354,7 @@ mod tests {
     use super::*;
 
     fn rain_only(p: &mut Preset) {
-        // The foot's soiling follows the rainfalls too: made anew.
-        for effect in ["moss", "dust", "foot"] {
+        for effect in ["moss", "dust"] {
             let _ = p.set(&format!("{effect}.enabled=false"));
         }
     }

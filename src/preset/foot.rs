@@ -47,7 +47,7 @@ pub struct FootParams {
 impl Default for FootParams {
     fn default() -> Self {
         FootParams {
-            enabled: true,
+            enabled: false,
             height_m: 0.4,
             top_spread: 0.35,
             top_size_m: 0.6,
