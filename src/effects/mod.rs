@@ -27,6 +27,7 @@ pub mod box_mean;
 pub mod carry;
 pub mod climate;
 pub mod dust;
+pub mod foot;
 pub mod gammaton;
 pub mod habitat;
 pub mod imperfections;
@@ -78,12 +79,15 @@ pub enum Effect {
     /// Spotty, Roughy, Fade Towardy and Desaturaty driven by sun and
     /// humidity (Riihiaho); first in the pipeline, under the grime.
     Weathering,
+    /// Soil splashed up the wall's foot, and rising damp's tide mark.
+    Foot,
 }
 
 impl Effect {
     /// Every effect, in the order the pipeline runs them.
-    pub const ALL: [Effect; 6] = [
+    pub const ALL: [Effect; 7] = [
         Effect::Weathering,
+        Effect::Foot,
         Effect::Rain,
         Effect::Moss,
         Effect::Dust,
@@ -100,6 +104,7 @@ impl Effect {
             Effect::Gammaton => "gammaton",
             Effect::Imperfections => "imperfections",
             Effect::Weathering => "weathering",
+            Effect::Foot => "foot",
         }
     }
 
@@ -113,6 +118,7 @@ impl Effect {
             Effect::Gammaton => preset.gammaton.enabled,
             Effect::Imperfections => imperfections::enabled(preset),
             Effect::Weathering => weathering::enabled(preset),
+            Effect::Foot => preset.foot.enabled,
         }
     }
 
@@ -125,6 +131,7 @@ impl Effect {
             Effect::Dust => 0.105,
             Effect::Gammaton => 0.3,
             Effect::Imperfections | Effect::Weathering => 0.1,
+            Effect::Foot => 0.02,
         }
     }
 
@@ -135,7 +142,8 @@ impl Effect {
             | Effect::Dust
             | Effect::Gammaton
             | Effect::Imperfections
-            | Effect::Weathering => &[],
+            | Effect::Weathering
+            | Effect::Foot => &[],
             Effect::Moss => &[Effect::Rain],
         }
     }
@@ -169,6 +177,8 @@ impl Effect {
                 "fade",
                 "desaturate",
             ],
+            // The soiling grows with the rainfalls.
+            Effect::Foot => &["seed", "foot", "rain.layers"],
         }
     }
 
@@ -200,6 +210,9 @@ impl Effect {
                 }
                 _ => false,
             },
+            // Off on both sides it made no layer to follow the rainfalls
+            // (so it does not stop the rain's time slider from restyling).
+            Effect::Foot => path == "rain.layers" && !old.foot.enabled && !new.foot.enabled,
             Effect::Moss
             | Effect::Dust
             | Effect::Gammaton
@@ -218,7 +231,8 @@ impl Effect {
             | Effect::Dust
             | Effect::Gammaton
             | Effect::Imperfections
-            | Effect::Weathering => {}
+            | Effect::Weathering
+            | Effect::Foot => {}
         }
     }
 
@@ -240,6 +254,7 @@ impl Effect {
             Effect::Gammaton => gammaton::stage(ctx, products, preset, progress),
             Effect::Imperfections => imperfections::stage(ctx, products, preset, progress),
             Effect::Weathering => weathering::stage(ctx, products, preset, progress),
+            Effect::Foot => foot::stage(ctx, products, preset, progress),
         }
     }
 }
@@ -346,6 +361,8 @@ pub enum Stats {
     Imperfections(imperfections::ImperfectionStats),
     /// Light, humidity and each generator's mean strength.
     Weathering(weathering::WeatheringStats),
+    /// How grown the foot's soiling is, and what it covers.
+    Foot(foot::FootStats),
 }
 
 /// The effects whose output made with `old` is stale for `new`: those with
@@ -414,17 +431,24 @@ mod tests {
     fn fewer_rainfalls_restyle_only_when_nothing_reads_the_final_wall() {
         let mut old = Preset::default();
         old.moss.enabled = false;
+        old.foot.enabled = true;
         let mut new = old.clone();
         new.rain.layers -= 1;
         // The washed runs sum every rainfall: they need the new count.
         assert!(stale(&old, &new).contains(&Effect::Rain));
         old.stain.washed_opacity = 0.0;
         new.stain.washed_opacity = 0.0;
-        assert!(stale(&old, &new).is_empty());
+        // The foot's soiling grows with every rainfall: it is made anew,
+        // unless it is off.
+        assert_eq!(stale(&old, &new), BTreeSet::from([Effect::Foot]));
+        let (mut off, mut off_new) = (old.clone(), new.clone());
+        off.foot.enabled = false;
+        off_new.foot.enabled = false;
+        assert!(stale(&off, &off_new).is_empty());
         new.rain.layers += 2;
         assert_eq!(
             stale(&old, &new),
-            BTreeSet::from([Effect::Rain, Effect::Moss])
+            BTreeSet::from([Effect::Rain, Effect::Moss, Effect::Foot])
         );
         // Moss grows from the wall after the last rainfall: a new rain run.
         new.rain.layers -= 2;

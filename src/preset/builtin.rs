@@ -21,7 +21,10 @@ pub const BUILTIN: &[(&str, &str)] = &[
         "salt-bloom",
         "gamma-tons: white efflorescence where water evaporates near the ground",
     ),
-    ("splash", "gamma-tons: dirt thrown up the foot of the wall"),
+    (
+        "splash",
+        "gamma-tons: dirt thrown up the foot of the wall, and its splash zone soiling",
+    ),
 ];
 
 /// Returns a built-in preset by name.
@@ -62,7 +65,11 @@ pub fn builtin(name: &str) -> Result<Preset> {
             p.rain.ledge_dirt = 4.0;
             p.rain.mass_max = 160.0;
         }
-        "rust-runs" | "salt-bloom" | "splash" => p.gammaton = gammaton::builtin(name),
+        "rust-runs" | "salt-bloom" => p.gammaton = gammaton::builtin(name),
+        "splash" => {
+            p.gammaton = gammaton::builtin(name);
+            p.foot.enabled = true;
+        }
         _ => {
             let names: Vec<_> = BUILTIN.iter().map(|(n, _)| *n).collect();
             return Err(Error::Preset(format!(

@@ -9,6 +9,7 @@
 mod age;
 mod builtin;
 mod diff;
+mod foot;
 mod gammaton;
 mod imperfections;
 mod params;
@@ -23,6 +24,7 @@ mod weathering;
 pub use age::AgeParams;
 pub use builtin::{BUILTIN, builtin};
 pub use diff::diff_paths;
+pub use foot::FootParams;
 pub use gammaton::{
     GammaSource, GammatonParams, MAX_SUBSTANCES, Rule, RuleKind, SourceKind, Stop, Substance,
 };
@@ -83,6 +85,8 @@ pub struct Preset {
     pub corrosion: CorrosionParams,
     /// Sun and humidity (Riihiaho eqs. 3.5-3.8).
     pub climate: ClimateParams,
+    /// Soil splashed up the wall's foot, and the rising-damp tide mark.
+    pub foot: FootParams,
     /// Spotty (Riihiaho eq. 3.12).
     #[serde(deserialize_with = "sections::spotty")]
     pub spotty: GeneratorParams,
@@ -117,6 +121,7 @@ impl Default for Preset {
             smudges: SmudgeParams::default(),
             corrosion: CorrosionParams::default(),
             climate: ClimateParams::default(),
+            foot: FootParams::default(),
             spotty: GeneratorParams::spotty(),
             roughy: GeneratorParams::roughy(),
             fade: GeneratorParams::fade(),

@@ -26,6 +26,7 @@ const PARTS: &[&[ParamSpec]] = &[
     super::weathering::ROWS[2],
     super::weathering::ROWS[3],
     super::weathering::ROWS[4],
+    super::foot::ROWS,
 ];
 
 // A static: the table is too large to copy into every use (clippy's
