@@ -314,12 +314,13 @@ fn cell_sums(f: &Features, k: usize, gw: usize, gh: usize) -> Vec<[f32; 5]> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::photo::Photo;
 
-    /// A xorshift generator of numbers in 0..1.
-    fn uniform(mut seed: u32) -> impl FnMut() -> f32 {
+    /// A xorshift generator of numbers in 0..1 (also drawn by
+    /// `twigs.rs`'s tests).
+    pub(in crate::analysis) fn uniform(mut seed: u32) -> impl FnMut() -> f32 {
         move || {
             seed ^= seed << 13;
             seed ^= seed >> 17;

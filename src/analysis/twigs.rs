@@ -195,17 +195,8 @@ fn median_on(v: &[f32], on: &[bool]) -> Option<f32> {
 mod tests {
     use super::*;
     use crate::analysis::foliage::Foliage;
+    use crate::analysis::foliage::tests::uniform;
     use crate::photo::Photo;
-
-    /// A xorshift generator of numbers in 0..1.
-    fn uniform(mut seed: u32) -> impl FnMut() -> f32 {
-        move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32
-        }
-    }
 
     /// A tangle of twigs in the disk of radius `r` about `c`: one-pixel
     /// lines at every angle, 6 to 30 pixels long, `n` of them (900 in a
