@@ -9,6 +9,7 @@ use super::LedgeKind;
 use super::features::Features;
 use super::ledges::Fit;
 use super::wall::Class;
+use crate::effects::percentile::{Rank, percentile};
 
 /// How far above and below an edge's ends a window frame is looked for,
 /// in spans of the edge.
@@ -208,17 +209,14 @@ pub(super) fn recovery(f: &Features, fit: &Fit) -> Option<f32> {
     let r = super::features::texture_radius(f.w, f.h).max(2) as isize;
     let (w, h) = (f.w as isize, f.h as isize);
     let median_at = |o: isize| {
-        let mut v: Vec<f32> = (fit.x0 as isize..=(fit.x1 as isize).min(w - 1))
+        let v: Vec<f32> = (fit.x0 as isize..=(fit.x1 as isize).min(w - 1))
             .filter_map(|x| {
                 let y = fit.y_at(x as f32).round() as isize + o;
                 (y >= 0 && y < h).then(|| f.luma[(y * w + x) as usize])
             })
             .collect();
-        if v.len() < 3 {
-            return None;
-        }
-        let m = v.len() / 2;
-        Some(*v.select_nth_unstable_by(m, f32::total_cmp).1)
+        // The upper median of an even count.
+        (v.len() >= 3).then(|| percentile(v, 0.5, Rank::Nearest))?
     };
     let mean = |o0: isize, o1: isize| -> Option<f32> {
         let s: Option<Vec<f32>> = (o0..=o1).map(median_at).collect();

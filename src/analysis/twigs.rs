@@ -34,6 +34,7 @@ use rayon::prelude::*;
 use super::crowns::close;
 use super::features::{Features, box_mean};
 use super::wall::Class;
+use crate::effects::percentile::{Rank, percentile};
 
 /// The closing that finds thin dark lines is over a box of this radius
 /// (lines up to 5 pixels wide: twigs at the analysis size).
@@ -177,18 +178,8 @@ fn wall_cells(class: &[Class], w: usize, k: usize, gw: usize, gh: usize) -> Vec<
 /// The median of `v` over the cells where `on` holds (the upper one of an
 /// even count), or None where it holds nowhere.
 fn median_on(v: &[f32], on: &[bool]) -> Option<f32> {
-    let mut picked: Vec<f32> = v
-        .iter()
-        .zip(on)
-        .filter(|(_, o)| **o)
-        .map(|(&x, _)| x)
-        .collect();
-    if picked.is_empty() {
-        return None;
-    }
-    let mid = picked.len() / 2;
-    let (_, m, _) = picked.select_nth_unstable_by(mid, f32::total_cmp);
-    Some(*m)
+    let picked = v.iter().zip(on).filter(|(_, o)| **o).map(|(&x, _)| x);
+    percentile(picked, 0.5, Rank::Nearest)
 }
 
 #[cfg(test)]

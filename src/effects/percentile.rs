@@ -1,4 +1,6 @@
-//! The one percentile the effects share: a value of the data itself (no
+//! The one percentile the effects share (and the analysis's newer medians:
+//! at q = 0.5 with [`Rank::Nearest`] it is the value of rank `n / 2`, the
+//! upper median of an even count): a value of the data itself (no
 //! interpolation), found by selection rather than a full sort.
 
 /// Which value a fractional rank `(n - 1) q` picks.
