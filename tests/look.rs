@@ -161,6 +161,8 @@ fn streaks_come_dark_where_dirt_settles_and_light_where_water_washed_it() {
     // cornice where the washed runs are (see the soot's own test).
     let mut no_soot = Preset::default();
     no_soot.stain.soot = 0.0;
+    // Every streak in full, so enough pixels hold a washed run alone.
+    no_soot.rain.uneven = 0.0;
     let (scene, out, _) = facade(&no_soot);
     let washed = layers_named(&out, "rain washed")
         .next()
@@ -410,6 +412,8 @@ fn streak_width(metres_per_pixel: f32) -> f32 {
     p.rain.end_share = 1.0;
     // Weak enough that no stain saturates (a clamped peak reads wider).
     p.stain.strength = 0.2;
+    // One ledge's drain would scale the ink at each scale differently.
+    p.rain.uneven = 0.0;
     let out = pipeline::run(&plain(metres_per_pixel), &p, &Progress::none()).unwrap();
     let mut widths = Vec::new();
     for y in 60..120 {
@@ -677,6 +681,8 @@ fn flat_paint(end: u32, tweak: impl Fn(&mut Preset)) -> (RgbImage, Outcome) {
     });
     let out = one_ledge_rain(&photo, Some(mask), |p| {
         p.rain.fall_m = 3.0;
+        // Every streak in full: the test is about where they end.
+        p.rain.uneven = 0.0;
         tweak(p);
     });
     (photo, out)

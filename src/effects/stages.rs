@@ -134,6 +134,7 @@ fn release(ctx: &Context, r: &crate::preset::RainParams) -> Release {
         spacing: ctx.grid_px(r.drip_spacing_m),
         width: ctx.grid_px(r.release_width_m),
         end_share: r.end_share,
+        uneven: r.uneven,
     }
 }
 

@@ -311,6 +311,13 @@ pub(super) const CORE: &[ParamSpec] = &[
         1.0,
     ),
     p(
+        "rain.uneven",
+        "",
+        "How unequal the streaks' strength is: each streak's stain follows the power of its drip point's water (ledges drain unequally too), so a few streaks are strong and most faint or gone (0 = every streak at full strength)",
+        0.0,
+        4.0,
+    ),
+    p(
         "stain.color",
         "",
         "Colour of the rain dirt (sRGB), multiplied onto the wall",

@@ -88,6 +88,11 @@ pub struct RainParams {
     /// A found ledge's confidence at which its streaks show in full; less
     /// sure ledges show theirs in proportion (`effects::rain::fall`); 0 = all.
     pub sure_at: f32,
+    /// How unequal the streaks' strength is: the power of each release
+    /// point's water (times its ledge's drain) its stain follows, so a few
+    /// streaks are strong and most faint (`effects::rain::sources`); 0 =
+    /// every streak at full strength.
+    pub uneven: f32,
 }
 
 impl Default for RainParams {
@@ -127,6 +132,7 @@ impl Default for RainParams {
             release_width_m: 0.06,
             fall_m: 1.5,
             sure_at: crate::effects::rain::fall::SURE_AT,
+            uneven: 1.0,
         }
     }
 }

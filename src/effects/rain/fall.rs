@@ -22,6 +22,11 @@
 //! the streaks' tops are not one straight line. Past a ledge's ends the
 //! fade dies out as a Gaussian of width `reach` instead of stopping at a
 //! column, so a band of streaks has no straight side.
+//!
+//! Under drip points the fade is also scaled by the streak's strength
+//! ([`Warp::strength`], `rain.uneven`): its water, times its ledge's
+//! drain, over the water that shows in full; the drain lengthens or
+//! shortens the fall too.
 
 use rayon::prelude::*;
 
@@ -89,6 +94,8 @@ struct Top {
     /// Where the streak begins below the row, and over how far it darkens.
     start: f32,
     ramp: f32,
+    /// How strong the streak is, 0..1 ([`Warp::strength`]).
+    strength: f32,
 }
 
 impl Top {
@@ -112,7 +119,7 @@ impl Top {
         } else {
             (1.0, 0.0)
         };
-        (self.side * onset * fall, depth)
+        (self.strength * self.side * onset * fall, depth)
     }
 }
 
@@ -164,10 +171,12 @@ pub fn fade(
                 sure: ledge.sure.clamp(0.0, 1.0),
                 start: 0.0,
                 ramp: 0.0,
+                strength: 1.0,
             };
             if let Some(warp) = ledge.warp {
                 let u = arc_at(ledge.line, x);
-                let water = warp.water(u) * ledge.catch.max(0.0);
+                let water = warp.water(u) * warp.drain() * ledge.catch.max(0.0);
+                top.strength = warp.strength(u, ledge.catch);
                 top.fall = fall * water.clamp(SHORTEST, LONGEST);
                 top.start = onset * warp.onset(u);
                 top.ramp = onset;
@@ -185,6 +194,7 @@ pub fn fade(
                     sure: 1.0,
                     start: 0.0,
                     ramp: 0.0,
+                    strength: 1.0,
                 });
             }
         }

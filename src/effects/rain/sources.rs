@@ -18,6 +18,19 @@
 //! each point's water in metres of ledge drained per drip spacing
 //! ([`Warp::water`]), which sets its streak's length (`fall.rs`), and where
 //! the water meets the wall below the ledge ([`Warp::onset`]).
+//!
+//! [choice:] how dark a streak reads follows its water too
+//! ([`Warp::strength`], `rain.uneven`). The dirt film (`stain.rs`) takes
+//! every streak fed by more than a trickle to the same dark within a few
+//! of fifty years' forty rainfalls, so the log-normal shares above showed
+//! only in the streaks' lengths: blind checks p31-p34 saw "one
+//! icicle-shaped drip under every edge, full dark at the edge, evenly
+//! spaced". Each ledge also drains a log-normal share of the rain it
+//! catches ([`LEDGE_SPREAD`]: a drip edge throws water clear, a ledge tilted
+//! back sends it all down the face), and a streak's stain is scaled by its
+//! water over [`FULL_WATER`] (at most 1) before the film, so a few streaks
+//! keep their darkness and the many fed by little water are faint, narrow
+//! (the flanks of a release point get less water than its centre) or gone.
 
 /// How a ledge releases its water, in grid pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,6 +42,10 @@ pub struct Release {
     pub width: f32,
     /// Share of a source's water released at its two ends.
     pub end_share: f32,
+    /// How unequal the streaks' strength is: the power of a release
+    /// point's water its stain's strength follows ([`Warp::strength`]);
+    /// 0 = every streak at full strength.
+    pub uneven: f32,
 }
 
 impl Release {
@@ -37,6 +54,7 @@ impl Release {
         spacing: 0.0,
         width: 1.0,
         end_share: 0.0,
+        uneven: 0.0,
     };
 }
 
@@ -80,6 +98,22 @@ fn width_factor(rng: &mut crate::random::Rng) -> f32 {
 /// a cornice still shed a comb of evenly spaced streaks (blind review 16)].
 const CLOSEST: f32 = 0.3;
 
+/// Standard deviation of a ledge's log drain, the factor on the water its
+/// release points shed (mean 1) [choice: 0.8. A ledge is never level and
+/// never like its neighbour: one with a working drip edge throws its water
+/// clear of the wall, one tilted back or cracked sends all of it down the
+/// face (`how-facades-age.md`, "Where water goes"); with every ledge
+/// draining its share, every sill of a row shed the same pair of streaks
+/// (blind checks p31-p34: "the same drip under every edge")].
+const LEDGE_SPREAD: f32 = 0.8;
+
+/// The water ([`Warp::water`], times the ledge's drain and catch) whose
+/// stain shows at full strength [choice: 0.3, about the median drip's
+/// share of a level ledge; at 1 (a drip's fair share) the streaks of
+/// eight street photos lost half their darkening and whole string
+/// courses went clean (BENCHMARKS.md, twentieth pass)].
+const FULL_WATER: f32 = 0.3;
+
 /// How far the water is spread for [`Warp::water`], in release widths: a
 /// streak's water is the same across its width.
 const WATER_SPREAD: f32 = 3.0;
@@ -103,6 +137,11 @@ pub struct Warp {
     /// Per grid pixel along the source: how far below the ledge its water
     /// meets the wall, 0..1 of the onset length (smooth noise).
     onset: Vec<f32>,
+    /// How much of the rain reaching it this ledge drains through its
+    /// release points ([`LEDGE_SPREAD`]); 1 when [`Release::uneven`] is 0.
+    drain: f32,
+    /// [`Release::uneven`].
+    uneven: f32,
 }
 
 impl Warp {
@@ -188,10 +227,18 @@ impl Warp {
                 ((i as f64 - 0.5 + t) as f32).clamp(0.0, len)
             })
             .collect();
+        // Drawn last: the drip points and onsets are those of before.
+        let (z, _) = crate::random::box_muller(rng);
+        let drain = match r.uneven > 0.0 {
+            true => (LEDGE_SPREAD * z - 0.5 * LEDGE_SPREAD * LEDGE_SPREAD).exp(),
+            false => 1.0,
+        };
         Some(Warp {
             inverse,
             water,
             onset,
+            drain,
+            uneven: r.uneven.max(0.0),
         })
     }
 
@@ -213,6 +260,23 @@ impl Warp {
     /// the onset length.
     pub fn onset(&self, u: f32) -> f32 {
         sample(&self.onset, u)
+    }
+
+    /// The ledge's drain ([`LEDGE_SPREAD`]): a factor on its water.
+    pub fn drain(&self) -> f32 {
+        self.drain
+    }
+
+    /// How strong the stain of the water leaving at arc length `u` is,
+    /// 0..1, on a ledge catching `catch` of the rain: its water (times the
+    /// ledge's drain and catch) over [`FULL_WATER`], at most 1, to the
+    /// power [`Release::uneven`]; 1 everywhere when that is 0.
+    pub fn strength(&self, u: f32, catch: f32) -> f32 {
+        if self.uneven <= 0.0 {
+            return 1.0;
+        }
+        let water = self.water(u) * self.drain * catch.max(0.0);
+        (water / FULL_WATER).min(1.0).powf(self.uneven)
     }
 }
 
@@ -381,6 +445,48 @@ mod tests {
         // Uniform gaps of 0.5..1.5 spacings (a comb, blind review 16): 0.29.
         assert!(cv > 0.5, "gap CV {cv}");
         assert!(gaps.iter().all(|&g| g >= CLOSEST * 20.0 - 1e-3));
+    }
+
+    /// The streaks' strength leaves the release alone (the simulation's
+    /// drip points, water and onsets are those of `uneven` 0, so its water
+    /// and dirt are too), follows the water along a ledge, and differs
+    /// from ledge to ledge about a mean drain of 1.
+    #[test]
+    fn the_strength_follows_the_water_and_leaves_the_release_alone() {
+        let release = |uneven| Release {
+            spacing: 20.0,
+            width: 2.0,
+            end_share: 0.5,
+            uneven,
+        };
+        let warp = |seed, uneven| {
+            let mut rng = crate::random::rng(seed, (crate::effects::Effect::Rain, RELEASE), 1, 0);
+            Warp::new(400.0, &release(uneven), &mut rng).unwrap()
+        };
+        let mut drains = Vec::new();
+        for seed in 0..400 {
+            let (even, uneven) = (warp(seed, 0.0), warp(seed, 1.0));
+            assert_eq!(
+                (&even.inverse, &even.water, &even.onset),
+                (&uneven.inverse, &uneven.water, &uneven.onset)
+            );
+            assert_eq!(even.drain(), 1.0);
+            assert!((0..=400).all(|u| even.strength(u as f32, 1.0) == 1.0));
+            let mut by_water: Vec<(f32, f32)> = (0..=400)
+                .map(|u| (uneven.water(u as f32), uneven.strength(u as f32, 1.0)))
+                .collect();
+            by_water.sort_by(|a, b| a.0.total_cmp(&b.0));
+            assert!(by_water.windows(2).all(|p| p[1].1 >= p[0].1));
+            assert!(by_water.iter().all(|p| (0.0..=1.0).contains(&p.1)));
+            drains.push(uneven.drain());
+        }
+        let mean = drains.iter().sum::<f32>() / drains.len() as f32;
+        assert!((0.85..1.15).contains(&mean), "mean drain {mean}");
+        let weak = drains.iter().filter(|&&d| d < 0.5).count();
+        assert!(
+            (60..160).contains(&weak),
+            "{weak} of 400 ledges drain under half"
+        );
     }
 
     #[test]
