@@ -71,6 +71,9 @@ fn main() -> anyhow::Result<()> {
             });
             colours.save(dir.join(format!("{name}-classes.png")))?;
             a.matte.save(dir.join(format!("{name}-matte.png")))?;
+            if let Some(labels) = &truth.labels {
+                foot_overlay(photo, a, labels).save(dir.join(format!("{name}-foot.png")))?;
+            }
         }
         m.add(a.as_ref(), truth);
         if args.iter().any(|a| a == "--each") {
@@ -102,6 +105,35 @@ fn main() -> anyhow::Result<()> {
     }
     print!("{}", m.report());
     Ok(())
+}
+
+/// The photo with the wall's foot drawn on it: the labelled foot green,
+/// the class map's lowest wall row over ground red, the seen foot blue.
+fn foot_overlay(photo: &Photo, a: &analysis::Analysis, labels: &[u8]) -> image::RgbImage {
+    let mut img = photo.image().to_rgb8();
+    let (w, h) = img.dimensions();
+    let truth = eval::true_foot(labels, w as usize);
+    let lines = [
+        (
+            truth.iter().map(|t| t.unwrap_or(f32::NAN)).collect(),
+            [0, 255, 0],
+            0,
+        ),
+        (a.class_foot_rows(w, h), [255, 0, 0], 2),
+        (a.foot_rows(w, h), [0, 80, 255], 4),
+    ];
+    for (line, colour, dy) in lines {
+        let line: Vec<f32> = line;
+        for (x, y) in line.iter().enumerate() {
+            if y.is_finite() {
+                for k in 0..2 {
+                    let yy = (*y as i64 + dy + k - 3).clamp(0, h as i64 - 1) as u32;
+                    img.put_pixel(x as u32, yy, image::Rgb(colour));
+                }
+            }
+        }
+    }
+    img
 }
 
 fn load(path: &Path) -> anyhow::Result<Photo> {

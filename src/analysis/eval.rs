@@ -5,6 +5,9 @@
 //! datasets; the tests run it on [`super::synthetic`] scenes.
 
 use crate::analysis::neighbours;
+
+mod foot;
+pub use foot::{FootScore, true_foot};
 use std::fmt::Write as _;
 
 /// Storey height assumed by the scale estimate, metres.
@@ -134,6 +137,8 @@ pub struct Metrics {
     pub ledge_on: [u64; 7],
     /// Sum of analysis times, ms.
     pub ms: f64,
+    /// The wall's foot against the labels.
+    pub foot: FootScore,
 }
 
 /// The kinds, in declaration order (index = `kind as usize`).
@@ -190,6 +195,7 @@ impl Metrics {
                     }
                 }
             }
+            self.foot.add(a, labels, t.width, t.height);
             self.iou_sum += if union == 0 {
                 1.0
             } else {
@@ -388,6 +394,9 @@ impl Metrics {
                 share(GROUND)
             );
         }
+        if self.foot.truth > 0 {
+            s.push_str(&self.foot.report());
+        }
         if self.window_px > 0 {
             let _ = writeln!(
                 s,
@@ -550,6 +559,7 @@ mod tests {
             classes: Vec::new(),
             wall_fraction: 1.0,
             ledges,
+            foot: Vec::new(),
             shelter: Vec::new(),
             scale: Scale {
                 metres_per_pixel: 0.01,

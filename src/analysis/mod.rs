@@ -23,6 +23,7 @@ mod crowns;
 pub mod eval;
 mod features;
 mod foliage;
+pub mod foot_line;
 mod glass;
 mod ground;
 mod joints;
@@ -184,6 +185,11 @@ pub struct Analysis {
     pub wall_fraction: f32,
     /// Ledges, top to bottom.
     pub ledges: Vec<Ledge>,
+    /// The wall's foot seen in the photo, where the wall stands on the
+    /// ground in view ([`foot_line`]): polylines in photo pixels, left to
+    /// right, each from the left edge of its first column to the right
+    /// edge of its last.
+    pub foot: Vec<Vec<[f32; 2]>>,
     /// Rain shelter at analysis resolution, 0..1 (1 = fully sheltered).
     #[serde(skip)]
     pub shelter: Vec<f32>,
@@ -209,14 +215,15 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
     let t_classes = ms(t1);
     let t3 = Instant::now();
     // Ledges and the matte need only the classes: side by side.
-    let ((ledges, shelter, (storey, glass_rows), t_ledges), small) = rayon::join(
+    let ((ledges, (shelter, foot), (storey, glass_rows), t_ledges), small) = rayon::join(
         || {
             let t2 = Instant::now();
             let glass_rows = scale::glass_rows(&f, &classes);
             let storey = scale::jamb_periods(&f, &classes).checked(glass_rows);
             let ledges = ledges::detect(&f, &classes, storey);
             let shelter = shelter::map(&f, &ledges);
-            (ledges, shelter, (storey, glass_rows), ms(t2))
+            let foot = foot_line::find(&f, &classes);
+            (ledges, (shelter, foot), (storey, glass_rows), ms(t2))
         },
         || matte::refine(&f, &classes),
     );
@@ -236,6 +243,10 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
             ..l
         })
         .collect();
+    let foot = foot
+        .into_iter()
+        .map(|l| l.into_iter().map(to_photo).collect())
+        .collect();
     let scale = scale::estimate(&f, &classes, &ledges, storey, glass_rows, opts.wall_width_m);
     Ok(Analysis {
         width: photo.width(),
@@ -246,6 +257,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
         classes,
         wall_fraction,
         ledges,
+        foot,
         shelter,
         scale,
         timings: Timings {
@@ -285,6 +297,37 @@ impl Analysis {
         let ax = ax.min(w - 1);
         let ay = ay.min(self.analysis_height as usize - 1);
         self.shelter[ay * w + ax]
+    }
+
+    /// Per column of the photo scaled to `w` x `h`, the row of the wall's
+    /// foot ([`Analysis::foot`]) in that image's pixels, `NaN` where none
+    /// is seen.
+    pub fn foot_rows(&self, w: u32, h: u32) -> Vec<f32> {
+        let (fx, fy) = (
+            self.width as f32 / w.max(1) as f32,
+            self.height as f32 / h.max(1) as f32,
+        );
+        (0..w)
+            .map(|x| {
+                let px = (x as f32 + 0.5) * fx;
+                self.foot
+                    .iter()
+                    .find_map(|l| foot_line::row_at(l, px))
+                    .map_or(f32::NAN, |y| y / fy)
+            })
+            .collect()
+    }
+
+    /// Per column of the photo scaled to `w` x `h`, the class map's lowest
+    /// wall row with ground right below it, in that image's pixels, `NaN`
+    /// where the column ends in anything else ([`foot_line::class_line`]:
+    /// what the effects took for the foot before [`Analysis::foot`]).
+    pub fn class_foot_rows(&self, w: u32, h: u32) -> Vec<f32> {
+        let (aw, ah) = (self.analysis_width as usize, self.analysis_height as usize);
+        let line = foot_line::class_line(&self.classes, aw, ah);
+        (0..w)
+            .map(|x| line[(x as usize * aw / w.max(1) as usize).min(aw - 1)] * h as f32 / ah as f32)
+            .collect()
     }
 
     /// Class at photo pixel (x, y).

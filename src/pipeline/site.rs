@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use image::GrayImage;
 
-use crate::analysis::{Analysis, Class, Ledge};
+use crate::analysis::{Analysis, Ledge};
 
 /// Width of the wall when nothing says otherwise, in metres (the analysis
 /// makes the same assumption, `ScaleSource::Default`).
@@ -69,7 +69,7 @@ impl Site {
             .collect();
         Site {
             metres_per_pixel: a.scale.metres_per_pixel * fx,
-            ground: ground_line(a, w, h),
+            ground: a.foot_rows(w, h),
             ledges,
             shelter: Some(Arc::new(GrayImage::from_fn(w, h, |x, y| {
                 let s = a.shelter_at((x as f32 + 0.5) * fx, (y as f32 + 0.5) * fy);
@@ -130,30 +130,6 @@ impl Site {
     }
 }
 
-/// Per column of the photo scaled to `w` x `h`, the lowest wall row that has ground (road, pavement)
-/// right below it in the analysis; `NaN` where the column ends in wall or in
-/// anything else (the frame cuts the wall, a car stands in front).
-fn ground_line(a: &Analysis, w: u32, h: u32) -> Vec<f32> {
-    let (aw, ah) = (a.analysis_width as usize, a.analysis_height as usize);
-    let per_column: Vec<f32> = (0..aw)
-        .map(|x| {
-            let class = |y: usize| a.classes[y * aw + x];
-            let mut y = ah;
-            while y > 0 && class(y - 1) == Class::Ground {
-                y -= 1;
-            }
-            let wall_above = y > 0 && class(y - 1) == Class::Wall;
-            match (y < ah, wall_above) {
-                (true, true) => y as f32 * h as f32 / ah as f32,
-                _ => f32::NAN,
-            }
-        })
-        .collect();
-    (0..w)
-        .map(|x| per_column[(x as usize * aw / w.max(1) as usize).min(aw - 1)])
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -169,13 +145,17 @@ mod tests {
 
     #[test]
     fn a_seen_site_finds_the_ground_under_a_synthetic_wall() {
-        let sc = analysis::synthetic::scene(3, 480, 360);
+        // A plaster wall with pilasters over a road; the ground's fill
+        // climbs the shaded boards of its left third, where no foot is
+        // seen. (The road of `synthetic::scene` is grain without joints:
+        // nothing there lies flatter than the wall, so no foot is seen.)
+        let sc = analysis::synthetic::kerbside(analysis::synthetic::Kerb::ShadedBoards, 480, 360);
         let a = analysis::analyse(&sc.photo, &Options::default()).unwrap();
         let site = Site::seen(&a);
         assert_eq!(site.ground.len(), 480);
         assert_eq!(site.metres_per_pixel, a.scale.metres_per_pixel);
         let found: Vec<f32> = (0..480).filter_map(|x| site.ground_at(x)).collect();
-        assert!(found.len() > 240, "ground found in {} columns", found.len());
+        assert!(found.len() > 160, "ground found in {} columns", found.len());
         let mean = found.iter().sum::<f32>() / found.len() as f32;
         assert!(mean > 180.0, "the ground is in the lower half: {mean}");
 
@@ -187,8 +167,17 @@ mod tests {
         assert_eq!(half.shelter.as_ref().unwrap().dimensions(), (240, 180));
         for x in (0..240).step_by(7) {
             match (half.ground_at(x), site.ground_at(2 * x)) {
-                (Some(a), Some(b)) => assert!((2.0 * a - b).abs() < 1e-3, "{x}: {a} {b}"),
-                (a, b) => assert_eq!(a.is_some(), b.is_some(), "{x}"),
+                // The foot is a sloping line sampled at each column's
+                // centre, half a photo pixel apart.
+                (Some(a), Some(b)) => assert!((2.0 * a - b).abs() < 0.5, "{x}: {a} {b}"),
+                (None, None) => {}
+                // Only at a stretch's end, which falls between the two
+                // photo columns a half-size column covers.
+                _ => assert_ne!(
+                    site.ground_at(2 * x).is_some(),
+                    site.ground_at(2 * x + 1).is_some(),
+                    "{x}"
+                ),
             }
         }
         assert_eq!(half.ledges.len(), site.ledges.len());
