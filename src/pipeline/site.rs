@@ -19,7 +19,7 @@ use crate::analysis::{Analysis, Ledge};
 pub const ASSUMED_WALL_WIDTH_M: f32 = 10.0;
 
 /// The building around the wall, in photo pixels.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Site {
     /// Metres per photo pixel.
     pub metres_per_pixel: f32,
@@ -32,6 +32,23 @@ pub struct Site {
     /// Rain shelter at the photo's size, 255 = fully sheltered; `None` =
     /// unknown (nothing sheltered).
     pub shelter: Option<Arc<GrayImage>>,
+}
+
+/// Two sites are equal when they say the same: a column with no ground
+/// seen (`NaN`) equals another such column.
+impl PartialEq for Site {
+    fn eq(&self, other: &Site) -> bool {
+        let same = |a: &f32, b: &f32| a == b || (a.is_nan() && b.is_nan());
+        self.metres_per_pixel == other.metres_per_pixel
+            && self.ground.len() == other.ground.len()
+            && self
+                .ground
+                .iter()
+                .zip(&other.ground)
+                .all(|(a, b)| same(a, b))
+            && self.ledges == other.ledges
+            && self.shelter == other.shelter
+    }
 }
 
 impl Site {
@@ -141,6 +158,16 @@ mod tests {
         assert!((s.px(1.0) - 100.0).abs() < 1e-3);
         assert_eq!(s.ground_at(5), None);
         assert_eq!(s.shelter_at(5, 5), 0.0);
+    }
+
+    #[test]
+    fn a_site_with_columns_of_no_ground_equals_its_copy() {
+        let mut site = Site::assumed(4);
+        site.ground = vec![f32::NAN, 3.0, f32::NAN, 2.5];
+        assert_eq!(site, site.clone());
+        let mut other = site.clone();
+        other.ground[0] = 1.0;
+        assert_ne!(site, other);
     }
 
     #[test]
