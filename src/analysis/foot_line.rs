@@ -343,17 +343,3 @@ fn fit(cols: &[usize], rows: &[f32]) -> (f32, f32) {
     };
     (((sy - b * sx) / n) as f32, b as f32)
 }
-
-/// The row of polyline `l` (points left to right) at `x`, if it spans it.
-pub fn row_at(l: &[[f32; 2]], x: f32) -> Option<f32> {
-    l.windows(2).find_map(|s| {
-        let (p, q) = (s[0], s[1]);
-        (x >= p[0] && x <= q[0]).then(|| {
-            if q[0] > p[0] {
-                p[1] + (q[1] - p[1]) * (x - p[0]) / (q[0] - p[0])
-            } else {
-                p[1]
-            }
-        })
-    })
-}

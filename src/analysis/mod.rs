@@ -312,7 +312,7 @@ impl Analysis {
                 let px = (x as f32 + 0.5) * fx;
                 self.foot
                     .iter()
-                    .find_map(|l| foot_line::row_at(l, px))
+                    .find_map(|l| crate::effects::habitat::row_at(l, px))
                     .map_or(f32::NAN, |y| y / fy)
             })
             .collect()

@@ -176,7 +176,7 @@ pub fn fade(
             if let Some(warp) = ledge.warp {
                 let u = arc_at(ledge.line, x);
                 let water = warp.water(u) * warp.drain() * ledge.catch.max(0.0);
-                top.strength = warp.strength(u, ledge.catch);
+                top.strength = warp.strength(water);
                 top.fall = fall * water.clamp(SHORTEST, LONGEST);
                 top.start = onset * warp.onset(u);
                 top.ramp = onset;

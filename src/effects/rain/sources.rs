@@ -267,15 +267,14 @@ impl Warp {
         self.drain
     }
 
-    /// How strong the stain of the water leaving at arc length `u` is,
-    /// 0..1, on a ledge catching `catch` of the rain: its water (times the
-    /// ledge's drain and catch) over [`FULL_WATER`], at most 1, to the
-    /// power [`Release::uneven`]; 1 everywhere when that is 0.
-    pub fn strength(&self, u: f32, catch: f32) -> f32 {
+    /// How strong the stain of a release point's `water` is, 0..1: that
+    /// water (its [`Warp::water`] times the ledge's drain and catch) over
+    /// [`FULL_WATER`], at most 1, to the power [`Release::uneven`]; 1
+    /// whatever the water when that is 0.
+    pub fn strength(&self, water: f32) -> f32 {
         if self.uneven <= 0.0 {
             return 1.0;
         }
-        let water = self.water(u) * self.drain * catch.max(0.0);
         (water / FULL_WATER).min(1.0).powf(self.uneven)
     }
 }
@@ -471,9 +470,12 @@ mod tests {
                 (&uneven.inverse, &uneven.water, &uneven.onset)
             );
             assert_eq!(even.drain(), 1.0);
-            assert!((0..=400).all(|u| even.strength(u as f32, 1.0) == 1.0));
+            assert!((0..=400).all(|u| even.strength(even.water(u as f32)) == 1.0));
             let mut by_water: Vec<(f32, f32)> = (0..=400)
-                .map(|u| (uneven.water(u as f32), uneven.strength(u as f32, 1.0)))
+                .map(|u| {
+                    let water = uneven.water(u as f32);
+                    (water, uneven.strength(water * uneven.drain()))
+                })
                 .collect();
             by_water.sort_by(|a, b| a.0.total_cmp(&b.0));
             assert!(by_water.windows(2).all(|p| p[1].1 >= p[0].1));
