@@ -9,7 +9,7 @@
 use super::features::{Features, box_mean, l1};
 use super::ledge_kinds::{crosses_a_frame, glass_below, kind_of, recovery, tops_a_window};
 use super::wall::Class;
-use super::{Ledge, LedgeKind, courses};
+use super::{Ledge, LedgeKind, courses, laps};
 
 /// Edges weaker than this (luma step over two rows, 0..1) are ignored
 /// (0.06 before the storey check below: on CMP 0.045 finds 2% more
@@ -170,6 +170,8 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
     let lines = suppress(lines, h);
     // Where steps of the wall's tone start, and how sure they are left.
     let mut doubts = Vec::new();
+    // Where lines that are one lap of a lapped wall start (see `laps`).
+    let mut lapped = Vec::new();
     let mut out: Vec<Ledge> = lines
         .iter()
         .map(|fit| (fit, kind_of(f, class, fit)))
@@ -189,6 +191,9 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
                 * (fit.span() / (0.08 * w as f32)).min(1.0).sqrt())
             .clamp(0.05, 1.0);
             let start = [x0, fit.y_at(x0) + 1.5];
+            if laps::is_lap(f, fit) {
+                lapped.push(start);
+            }
             match recovery(f, fit) {
                 Some(r) if kind != LedgeKind::WindowHead && r < STEP_DROP => return None,
                 Some(r) if r < STEP_SURE && !opens_below(f, class, fit, kind) => {
@@ -205,10 +210,16 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
         .collect();
     out.extend(roof_line(f, class));
     out.sort_by(|a, b| b.confidence.total_cmp(&a.confidence));
+    // Laps take no place among the ledges kept and support no other line
+    // one storey away; they stay only for the course check below.
+    let (laps, mut out): (Vec<Ledge>, Vec<Ledge>) = out
+        .into_iter()
+        .partition(|l| lapped.contains(&l.polyline[0]));
     out.truncate(MAX_LEDGES);
     if let Some(storey) = storey {
         out = without(out, |ls, i| alone(ls, i, storey, w, h));
     }
+    out.extend(laps);
     out.sort_by(|a, b| {
         a.polyline[0][1]
             .total_cmp(&b.polyline[0][1])
@@ -219,6 +230,10 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
         Some(top) => without(out, |ls, i| on_a_car(&ls[i], &top, h)),
         None => out,
     };
+    // Laps go after the course check, which stacks each line with all
+    // traced (a stack of laps dropped before it leaves its laps that the
+    // laps test cannot tell, by a trim board or a rail, standing alone).
+    out.retain(|l| !lapped.contains(&l.polyline[0]));
     // A step's confidence falls last: the storey and course checks above
     // weigh ledges by the edge alone (lowered before them, CMP recall fell
     // to 4593, under the floor).

@@ -27,6 +27,7 @@ pub mod foot_line;
 mod glass;
 mod ground;
 mod joints;
+mod laps;
 mod lawn;
 mod ledge_kinds;
 mod ledges;
