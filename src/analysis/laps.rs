@@ -77,17 +77,24 @@ pub(super) fn is_lap(f: &Features, fit: &Fit) -> bool {
     if x1 < x0 + CHUNK / 2 {
         return false;
     }
-    let (mut laps, mut chunks) = (0usize, 0usize);
-    let mut c = x0;
-    while c <= x1 {
-        let end = (c + CHUNK).min(x1 + 1);
-        if end - c >= CHUNK / 2 {
-            chunks += 1;
-            laps += profile(f, fit, c, end).is_some_and(|p| lap_chunk(&p)) as usize;
+    let chunks: Vec<(usize, usize)> = (x0..=x1)
+        .step_by(CHUNK)
+        .map(|c| (c, (c + CHUNK).min(x1 + 1)))
+        .filter(|&(c, end)| end - c >= CHUNK / 2)
+        .collect();
+    let need = LAPPED_SHARE * chunks.len() as f32;
+    // Chunk by chunk, until the answer is sure either way.
+    let mut laps = 0usize;
+    for (k, &(c, end)) in chunks.iter().enumerate() {
+        laps += profile(f, fit, c, end).is_some_and(|p| lap_chunk(&p)) as usize;
+        if laps as f32 >= need {
+            return true;
         }
-        c = end;
+        if ((laps + chunks.len() - k - 1) as f32) < need {
+            return false;
+        }
     }
-    chunks > 0 && laps as f32 >= LAPPED_SHARE * chunks as f32
+    false
 }
 
 /// The mean luma over columns `c0..c1` at each row offset `-REACH..=REACH`
@@ -113,7 +120,10 @@ fn profile(f: &Features, fit: &Fit, c0: usize, c1: usize) -> Option<Vec<f32>> {
 /// the line's own step does not stand out of theirs.
 fn lap_chunk(p: &[f32]) -> bool {
     // Above: the rows down to two above the line; below: from two below.
-    let (Some(a), Some(b)) = (side(p, Side::Above), side(p, Side::Below)) else {
+    let Some(b) = side(p, Side::Below) else {
+        return false;
+    };
+    let Some(a) = side(p, Side::Above) else {
         return false;
     };
     if a.max(b) as f32 > SAME_PERIOD * a.min(b) as f32 {
