@@ -219,11 +219,17 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
     let ((ledges, (shelter, foot), (storey, glass_rows), t_ledges), small) = rayon::join(
         || {
             let t2 = Instant::now();
-            let glass_rows = scale::glass_rows(&f, &classes);
-            let storey = scale::jamb_periods(&f, &classes).checked(glass_rows);
-            let ledges = ledges::detect(&f, &classes, storey);
-            let shelter = shelter::map(&f, &ledges);
-            let foot = foot_line::find(&f, &classes);
+            // The foot needs only the classes too: beside the ledges.
+            let (foot, (ledges, shelter, storey, glass_rows)) = rayon::join(
+                || foot_line::find(&f, &classes),
+                || {
+                    let glass_rows = scale::glass_rows(&f, &classes);
+                    let storey = scale::jamb_periods(&f, &classes).checked(glass_rows);
+                    let ledges = ledges::detect(&f, &classes, storey);
+                    let shelter = shelter::map(&f, &ledges);
+                    (ledges, shelter, storey, glass_rows)
+                },
+            );
             (ledges, (shelter, foot), (storey, glass_rows), ms(t2))
         },
         || matte::refine(&f, &classes),
