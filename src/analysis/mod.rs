@@ -216,11 +216,11 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
     let t_classes = ms(t1);
     let t3 = Instant::now();
     // Ledges and the matte need only the classes: side by side.
-    let ((ledges, (shelter, foot), (storey, glass_rows), t_ledges), small) = rayon::join(
+    let (((foot, (ledges, shelter, storey, glass_rows)), t_ledges), small) = rayon::join(
         || {
             let t2 = Instant::now();
             // The foot needs only the classes too: beside the ledges.
-            let (foot, (ledges, shelter, storey, glass_rows)) = rayon::join(
+            let found = rayon::join(
                 || foot_line::find(&f, &classes),
                 || {
                     let glass_rows = scale::glass_rows(&f, &classes);
@@ -230,7 +230,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
                     (ledges, shelter, storey, glass_rows)
                 },
             );
-            (ledges, (shelter, foot), (storey, glass_rows), ms(t2))
+            (found, ms(t2))
         },
         || matte::refine(&f, &classes),
     );
