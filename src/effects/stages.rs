@@ -156,6 +156,15 @@ struct Stainer<'a> {
     blur: f32,
     /// The blur at the end of the fall; `None` = no fall.
     wider: Option<f32>,
+    /// Whether the streaks' strength and sureness scale the film's
+    /// alpha rather than the coverage (`rain.after_film`).
+    after: bool,
+    /// [`rain::fall::Fall::gain`], wandered like the streaks, when it is
+    /// laid after the film and is not 1 everywhere streaks run.
+    gain: Option<RowMajor<f32>>,
+    /// The factor on one rainfall's alpha after the film (the gain, the
+    /// soot's share kept whole).
+    scale: RowMajor<f32>,
     coverage: rain::stain::Coverage,
     widened: rain::stain::Coverage,
     /// The film the rainfalls so far laid.
@@ -210,6 +219,16 @@ impl<'a> Stainer<'a> {
             ctx.grid_px(ONSET_M),
         );
         let blur = preset.stain.softness + ctx.grid_px(preset.stain.blur_m);
+        let wander =
+            rain::wander::Wander::new(preset.seed, grid.width, grid.height, ctx.grid_px(1.0));
+        let after = r.after_film;
+        let gain = after
+            .then(|| rain::fall::gain_where_it_runs(&fall))
+            .flatten()
+            .map(|mut gain| {
+                wander.apply(&mut gain);
+                gain
+            });
         Stainer {
             ctx,
             preset,
@@ -219,12 +238,14 @@ impl<'a> Stainer<'a> {
             coverage: rain::stain::Coverage::new(grid.width, grid.height),
             widened: rain::stain::Coverage::new(grid.width, grid.height),
             film: rain::stain::Film::new(grid.width, grid.height),
-            wander: rain::wander::Wander::new(
-                preset.seed,
-                grid.width,
+            wander,
+            after,
+            scale: RowMajor::filled(
+                if gain.is_some() { grid.width } else { 0 },
                 grid.height,
-                ctx.grid_px(1.0),
+                1.0,
             ),
+            gain,
             soot: None,
             texture: None,
             catch: None,
@@ -243,19 +264,23 @@ impl<'a> Stainer<'a> {
     fn alpha(&mut self, values: &ColumnMajor<f32>, max: f32, film: bool) -> GrayImage {
         let stain = &self.preset.stain;
         let cover = self.coverage.of(values, max, stain, self.blur);
+        let fade = self.fall.before_film(self.after);
         match self.wider {
             Some(wider) => {
                 let wide = self.widened.of(values, max, stain, wider);
-                rain::fall::widen(cover, wide, &self.fall);
+                rain::fall::widen(cover, wide, fade, &self.fall);
             }
             // No fall: the stain as it is, below the sources.
             None => cover
                 .data_mut()
                 .par_iter_mut()
-                .zip(self.fall.fade.data())
+                .zip(fade.data())
                 .for_each(|(c, f)| *c *= f),
         }
         self.wander.apply(cover);
+        if let Some(gain) = &self.gain {
+            self.scale.data_mut().copy_from_slice(gain.data());
+        }
         if film {
             let (ctx, preset) = (self.ctx, self.preset);
             if preset.stain.soot > 0.0 {
@@ -267,9 +292,15 @@ impl<'a> Stainer<'a> {
                         ctx.grid_px(1.0),
                     )
                 });
-                soot.lay(cover);
+                match self.gain.is_some() {
+                    true => soot.lay_gained(cover, &mut self.scale),
+                    false => soot.lay(cover),
+                }
             }
             self.film.lay(cover);
+            if self.gain.is_some() {
+                rain::stain::scale(cover, &self.scale);
+            }
             let texture = self.texture.get_or_insert_with(|| {
                 rain::texture::Texture::new(
                     preset.seed,
@@ -287,6 +318,8 @@ impl<'a> Stainer<'a> {
                 let (w, h) = ctx.size();
                 return ctx.grid.upsample(cover, Some(catch), w, h);
             }
+        } else if self.gain.is_some() {
+            rain::stain::scale(cover, &self.scale);
         }
         let (w, h) = self.ctx.size();
         self.ctx.grid.upsample(cover, self.ctx.mask, w, h)

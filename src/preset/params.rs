@@ -318,6 +318,13 @@ pub(super) const CORE: &[ParamSpec] = &[
         4.0,
     ),
     p(
+        "rain.after_film",
+        "",
+        "Scale each streak's stain by its strength and its ledge's sureness after the dirt film, so its darkness follows them in proportion (off: before it, where the film's saturation leaves only the streak's length to show them)",
+        0.0,
+        0.0,
+    ),
+    p(
         "stain.color",
         "",
         "Colour of the rain dirt (sRGB), multiplied onto the wall",

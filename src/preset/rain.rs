@@ -93,6 +93,11 @@ pub struct RainParams {
     /// streaks are strong and most faint (`effects::rain::sources`); 0 =
     /// every streak at full strength.
     pub uneven: f32,
+    /// Whether a streak's strength (`uneven`) and its ledge's sureness
+    /// (`sure_at`) scale its stain after the dirt film rather than the
+    /// coverage before it, so its final darkness follows them in
+    /// proportion instead of only its length (`effects::rain::fall`).
+    pub after_film: bool,
 }
 
 impl Default for RainParams {
@@ -133,6 +138,7 @@ impl Default for RainParams {
             fall_m: 1.5,
             sure_at: crate::effects::rain::fall::SURE_AT,
             uneven: 1.0,
+            after_film: true,
         }
     }
 }

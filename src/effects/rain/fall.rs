@@ -27,6 +27,19 @@
 //! ([`Warp::strength`], `rain.uneven`): its water, times its ledge's
 //! drain, over the water that shows in full; the drain lengthens or
 //! shortens the fall too.
+//!
+//! [choice, beyond the fade:] the dirt film (`stain.rs`) saturates, so a
+//! streak's strength or its ledge's doubt folded into the coverage before
+//! it showed only as length: forty rainfalls at a fifth of the coverage
+//! still film `1 - (1 - 0.2 / 4)^40 = 0.87` of a spot, and a ledge at
+//! confidence 0.1 streaked like a sure one (blind review 28). So [`fade`]
+//! also splits the fade into a [`Fall::shape`], where the streaks run as if
+//! every one were full and every ledge sure, laid before the film, and a
+//! [`Fall::gain`] the film's alpha is multiplied by after it
+//! (`rain.after_film`): the mean, over the walls with and without each
+//! doubtful ledge, of the strength of the streak that runs there, so a
+//! streak's final darkness is proportional to its strength and its
+//! ledge's sureness.
 
 use rayon::prelude::*;
 
@@ -109,9 +122,9 @@ impl Top {
         }
     }
 
-    /// The fade `d` pixels below the source, and how far down its fall
-    /// that is (0..1).
-    fn at(&self, d: f32) -> (f32, f32) {
+    /// The fade `d` pixels below the source at `strength` (the streak's
+    /// own, or 1), and how far down its fall that is (0..1).
+    fn at(&self, d: f32, strength: f32) -> (f32, f32) {
         let onset = self.onset(d);
         let (fall, depth) = if self.fall > 0.0 {
             let t = d / self.fall;
@@ -119,18 +132,36 @@ impl Top {
         } else {
             (1.0, 0.0)
         };
-        (self.strength * self.side * onset * fall, depth)
+        (strength * self.side * onset * fall, depth)
     }
 }
 
 /// Where streaks show below their sources ([`fade`]).
 #[derive(Debug, Clone)]
 pub struct Fall {
-    /// How much of the stain shows, 0..1.
+    /// How much of the stain shows, 0..1: strengths and doubts included.
     pub fade: RowMajor<f32>,
     /// How far down its fall each pixel lies, 0..1 (1 at or past the
     /// fall length): how much a streak has widened there.
     pub depth: RowMajor<f32>,
+    /// Where streaks run, 0..1, every streak at full strength and every
+    /// ledge sure (the fade before the film when the gain is laid after).
+    pub shape: RowMajor<f32>,
+    /// How strong the streak running at each pixel is, 0..1: its
+    /// strength, weighed over the walls with and without each doubtful
+    /// ledge ([`seen`]); `shape * gain` is about `fade`.
+    pub gain: RowMajor<f32>,
+}
+
+impl Fall {
+    /// The fade laid before the film: [`Fall::shape`] when the gain is
+    /// laid after it (`after`), else [`Fall::fade`].
+    pub fn before_film(&self, after: bool) -> &RowMajor<f32> {
+        match after {
+            true => &self.shape,
+            false => &self.fade,
+        }
+    }
 }
 
 /// The fade map on a `width` x `height` grid for source ledges and,
@@ -204,19 +235,71 @@ pub fn fade(
         .for_each(|c| c.sort_by(|a, b| a.row.total_cmp(&b.row)));
     let mut fade = RowMajor::filled(width, height, 0.0);
     let mut depth = RowMajor::filled(width, height, 0.0);
+    let mut shape = RowMajor::filled(width, height, 0.0);
+    let mut gain = RowMajor::filled(width, height, 0.0);
+    let w = width.max(1);
     fade.data_mut()
-        .par_chunks_mut(width.max(1))
-        .zip(depth.data_mut().par_chunks_mut(width.max(1)))
+        .par_chunks_mut(w)
+        .zip(depth.data_mut().par_chunks_mut(w))
+        .zip(shape.data_mut().par_chunks_mut(w))
+        .zip(gain.data_mut().par_chunks_mut(w))
         .enumerate()
-        .for_each(|(y, (fades, depths))| {
+        .for_each(|(y, (((fades, depths), shapes), gains))| {
             let y = y as f32 + 0.5;
-            for ((v, t), sources) in fades.iter_mut().zip(depths).zip(&columns) {
+            for (x, sources) in columns.iter().enumerate() {
                 let above = sources.partition_point(|s| s.row <= y);
-                (*v, *t) = seen(sources[..above].iter().rev(), y, 1.0, (0.0, 0.0), DOUBTS);
+                let v = seen(sources[..above].iter().rev(), y, 1.0, Seen::NONE, DOUBTS);
+                (fades[x], depths[x], shapes[x], gains[x]) = (v.fade, v.depth, v.shape, v.gain);
             }
         });
-    Fall { fade, depth }
+    Fall {
+        fade,
+        depth,
+        shape,
+        gain,
+    }
 }
+
+/// `fall`'s gain ([`Fall::gain`]), or `None` when it is 1 wherever a
+/// streak runs (every streak full and every ledge sure: nothing to scale).
+pub fn gain_where_it_runs(fall: &Fall) -> Option<RowMajor<f32>> {
+    let full = fall
+        .gain
+        .data()
+        .par_iter()
+        .zip(fall.shape.data())
+        .all(|(g, s)| *g == 1.0 || *s <= 0.0);
+    (!full).then(|| fall.gain.clone())
+}
+
+/// What [`seen`] finds at a pixel.
+#[derive(Debug, Clone, Copy)]
+struct Seen {
+    /// The fade, strengths and doubts included, and its depth.
+    fade: f32,
+    depth: f32,
+    /// The fade at full strength in the likeliest-streaked wall, and the
+    /// strength of the streak there ([`Fall::shape`], [`Fall::gain`]).
+    shape: f32,
+    gain: f32,
+}
+
+impl Seen {
+    const NONE: Seen = Seen {
+        fade: 0.0,
+        depth: 0.0,
+        shape: 0.0,
+        gain: 0.0,
+    };
+}
+
+/// The share of the strongest wall's shape at which another wall's streak
+/// counts in full toward the gain [choice: 0.5. After forty rainfalls the
+/// film takes a streak at half the coverage of another to nearly the same
+/// dark (`1 - (1 - 0.5 a / 4)^40` against `1 - (1 - a / 4)^40`: 0.92 of it
+/// at a = 0.5), so a doubtful ledge inside the streaks from a sure one
+/// above leaves no step where it lies].
+const FULL_SHARE: f32 = 0.5;
 
 /// The most doubtful ledges above a pixel [`seen`] weighs both ways; the
 /// ones above them count as sure.
@@ -230,13 +313,20 @@ const DOUBTS: u32 = 6;
 /// analysis is unsure of ([`sure`] < 1) is there with that chance: the
 /// fade is the mean of the two walls, with it and without it (up to
 /// `doubts` such ledges; 1 when every ledge is sure: the fade of before).
+///
+/// The shape and gain of the same walls: the shape is the fade at full
+/// strength of the wall with the most of it, and the gain the mean over
+/// the walls of the strength of the streak each shows there, a wall
+/// counting in full when its own shape is at least [`FULL_SHARE`] of that
+/// most (else in proportion): a lone doubtful ledge's streaks have the
+/// shape of a sure one's and its sureness as gain.
 fn seen<'a>(
     mut sources: impl Iterator<Item = &'a Top> + Clone,
     y: f32,
     through: f32,
-    best: (f32, f32),
+    best: Seen,
     doubts: u32,
-) -> (f32, f32) {
+) -> Seen {
     let Some(s) = sources.next() else {
         return best;
     };
@@ -244,11 +334,15 @@ fn seen<'a>(
         return best;
     }
     let d = y - s.row;
-    let (value, depth) = s.at(d);
-    let there = match through * value > best.0 {
-        true => (through * value, depth),
-        false => best,
-    };
+    let (value, depth) = s.at(d, s.strength);
+    let (full, _) = s.at(d, 1.0);
+    let mut there = best;
+    if through * value > best.fade {
+        (there.fade, there.depth) = (through * value, depth);
+    }
+    if through * full > best.shape {
+        (there.shape, there.gain) = (through * full, s.strength);
+    }
     let with = seen(
         sources.clone(),
         y,
@@ -261,21 +355,28 @@ fn seen<'a>(
     }
     let without = seen(sources, y, through, best, doubts - 1);
     let q = s.sure;
-    (
-        q * with.0 + (1.0 - q) * without.0,
-        q * with.1 + (1.0 - q) * without.1,
-    )
+    let shape = with.shape.max(without.shape);
+    let counts = |v: f32| match shape > 0.0 {
+        true => (v / (FULL_SHARE * shape)).min(1.0),
+        false => 0.0,
+    };
+    Seen {
+        fade: q * with.fade + (1.0 - q) * without.fade,
+        depth: q * with.depth + (1.0 - q) * without.depth,
+        shape,
+        gain: q * with.gain * counts(with.shape) + (1.0 - q) * without.gain * counts(without.shape),
+    }
 }
 
 /// Streaks widen and fade as they fall: `narrow` becomes `narrow` near
 /// its source, blending into `wide` (the same stain blurred more) at the
-/// fall length, times the fade.
-pub fn widen(narrow: &mut RowMajor<f32>, wide: &RowMajor<f32>, fall: &Fall) {
+/// fall length, times `fade` ([`Fall::before_film`]).
+pub fn widen(narrow: &mut RowMajor<f32>, wide: &RowMajor<f32>, fade: &RowMajor<f32>, fall: &Fall) {
     narrow
         .data_mut()
         .par_iter_mut()
         .zip(wide.data())
-        .zip(fall.fade.data().par_iter().zip(fall.depth.data()))
+        .zip(fade.data().par_iter().zip(fall.depth.data()))
         .for_each(|((n, w), (f, t))| {
             if *f <= 0.0 {
                 *n = 0.0;
@@ -360,6 +461,53 @@ mod tests {
         assert!(doubtful.get(4, 21) < 0.8 * sure.get(4, 21));
         assert_eq!(super::sure(0.2, 0.0), 1.0, "sure_at 0: every ledge in full");
         assert_eq!(super::sure(0.9, SURE_AT), 1.0);
+    }
+
+    /// A lone ledge the analysis is unsure of: its streaks run as a sure
+    /// one's before the film (the shape) and its sureness is their gain
+    /// after it, so their final darkness is in proportion (folded into
+    /// the fade before the film, the film took them to nearly the same
+    /// dark).
+    #[test]
+    fn a_lone_doubtful_ledge_keeps_its_shape_and_takes_its_sureness_as_gain() {
+        let line = vec![(0.0, 5.0), (10.0, 5.0)];
+        let mut ledge = uniform(&line);
+        let sure = fade(10, 40, &[ledge], None, 20.0, 0.0, 0.0);
+        ledge.sure = 0.2;
+        let doubtful = fade(10, 40, &[ledge], None, 20.0, 0.0, 0.0);
+        assert_eq!(doubtful.shape.data(), sure.fade.data());
+        for (i, s) in doubtful.shape.data().iter().enumerate() {
+            if *s > 0.0 {
+                assert!((doubtful.gain.data()[i] - 0.2).abs() < 1e-6);
+                assert!((doubtful.fade.data()[i] - 0.2 * s).abs() < 1e-6);
+            }
+        }
+        assert!(gain_where_it_runs(&sure).is_none(), "a sure ledge: no gain");
+        assert!(gain_where_it_runs(&doubtful).is_some());
+    }
+
+    /// A doubtful ledge inside the streaks of a sure one above: the
+    /// streaks from above run on through it, so the gain has no step
+    /// where it lies (the film takes both walls' streaks to the same dark
+    /// there), and falls toward its sureness below, where only its own
+    /// streaks would reach.
+    #[test]
+    fn a_doubtful_ledge_in_a_sure_ones_streaks_leaves_no_step_in_the_gain() {
+        let lines = [
+            vec![(0.0, 5.0), (10.0, 5.0)],
+            vec![(0.0, 20.0), (10.0, 20.0)],
+        ];
+        let mut ledges: Vec<_> = lines.iter().map(|l| uniform(l)).collect();
+        ledges[1].sure = 0.2;
+        let f = fade(10, 80, &ledges, None, 30.0, 0.0, 0.0);
+        let (above, below) = (f.gain.get(4, 19), f.gain.get(4, 21));
+        assert_eq!(above, 1.0);
+        assert!(
+            below > 0.95,
+            "gain {above} -> {below} at the doubtful joint"
+        );
+        let low = f.gain.get(4, 45);
+        assert!((0.2..0.6).contains(&low), "gain {low} far below it");
     }
 
     #[test]

@@ -105,6 +105,27 @@ impl Soot {
             .zip(self.per_rainfall.data())
             .for_each(|(c, s)| *c += s * (1.0 - c.clamp(0.0, 1.0)));
     }
+
+    /// [`Soot::lay`], when the rain's part of `cover` is to be scaled by
+    /// `gain` after the film (`fall::Fall::gain`): `gain` becomes the
+    /// factor on the union, the rain's share of it at its gain and the
+    /// soot's in full, so the soot stays as dark whatever streak runs
+    /// over it.
+    pub fn lay_gained(&self, cover: &mut RowMajor<f32>, gain: &mut RowMajor<f32>) {
+        cover
+            .data_mut()
+            .par_iter_mut()
+            .zip(gain.data_mut())
+            .zip(self.per_rainfall.data())
+            .for_each(|((c, g), s)| {
+                let soot = s * (1.0 - c.clamp(0.0, 1.0));
+                let union = *c + soot;
+                if union > 0.0 {
+                    *g = (*g * *c + soot) / union;
+                }
+                *c = union;
+            });
+    }
 }
 
 #[cfg(test)]
@@ -137,6 +158,25 @@ mod tests {
         // some bare.
         let half = sooted(10 + 50, 0.0);
         assert!((30..270).contains(&half), "{half} of 300 sooted");
+    }
+
+    /// With a gain after the film, the soot keeps its own strength and
+    /// only the rain's share of the union takes the gain.
+    #[test]
+    fn gained_soot_keeps_its_own_strength() {
+        let soot = Soot::new(5, PER_RAINFALL, &under_a_ledge(8, 40), 100.0);
+        let plain = |x: usize| if x < 4 { 0.5 } else { 0.0 };
+        let mut cover = RowMajor::from_fn(8, 40, |x, _| plain(x));
+        let mut gain = RowMajor::filled(8, 40, 0.2);
+        let mut laid = cover.clone();
+        soot.lay(&mut laid);
+        soot.lay_gained(&mut cover, &mut gain);
+        assert_eq!(cover.data(), laid.data(), "the same union");
+        assert_eq!(gain.get(6, 12), 1.0, "soot alone: in full");
+        assert_eq!(gain.get(1, 5), 0.2, "rain alone: its gain");
+        let (c, s) = (cover.get(1, 12), soot.per_rainfall.get(1, 12));
+        let want = (0.2 * 0.5 + s * 0.5) / c;
+        assert!((gain.get(1, 12) - want).abs() < 1e-6);
     }
 
     #[test]

@@ -28,9 +28,10 @@
 //! spaced". Each ledge also drains a log-normal share of the rain it
 //! catches ([`LEDGE_SPREAD`]: a drip edge throws water clear, a ledge tilted
 //! back sends it all down the face), and a streak's stain is scaled by its
-//! water over [`FULL_WATER`] (at most 1) before the film, so a few streaks
-//! keep their darkness and the many fed by little water are faint, narrow
-//! (the flanks of a release point get less water than its centre) or gone.
+//! water over [`FULL_WATER`] (at most 1), laid after the film
+//! (`rain.after_film`: `fall.rs`), so a few streaks keep their darkness
+//! and the many fed by little water are faint in proportion, narrow (the
+//! flanks of a release point get less water than its centre) or gone.
 
 /// How a ledge releases its water, in grid pixels.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -111,7 +112,13 @@ const LEDGE_SPREAD: f32 = 0.8;
 /// stain shows at full strength [choice: 0.3, about the median drip's
 /// share of a level ledge; at 1 (a drip's fair share) the streaks of
 /// eight street photos lost half their darkening and whole string
-/// courses went clean (BENCHMARKS.md, twentieth pass)].
+/// courses went clean (BENCHMARKS.md, twentieth pass). With the strength
+/// laid after the dirt film (`rain.after_film`), 0.8 with `rain.uneven` 2
+/// and a 3x coverage before the film made the strong streaks' cores too
+/// dark and hard (blind pairwise p39-p40: main's look better 11 to 4);
+/// 0.3 with `uneven` 1 keeps the strong streaks as they were and only the
+/// weak ones fainter (p41: better 3, worse 1, equal 6; twenty-second
+/// pass)].
 const FULL_WATER: f32 = 0.3;
 
 /// How far the water is spread for [`Warp::water`], in release widths: a

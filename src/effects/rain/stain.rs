@@ -121,6 +121,18 @@ impl Film {
     }
 }
 
+/// Multiplies `alpha` by `by` (the same size), pixel by pixel: a
+/// rainfall's filmed alpha by its streaks' gain (`fall::Fall::gain`), so
+/// the alphas on a spot sum to `gain * L * C_k` instead of `L * C_k` and
+/// the stack reads at least `(1 - s)^(gain L)` of the wall ([`Film`]).
+pub fn scale(alpha: &mut RowMajor<f32>, by: &RowMajor<f32>) {
+    alpha
+        .data_mut()
+        .par_iter_mut()
+        .zip(by.data())
+        .for_each(|(a, g)| *a *= g);
+}
+
 /// Outputs a blur pass computes together.
 const RUN: usize = 16;
 
