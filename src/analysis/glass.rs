@@ -13,6 +13,8 @@
 
 use rayon::prelude::*;
 
+pub(crate) mod frames;
+
 use super::features::{Features, box_mean, texture_radius};
 use super::neighbours;
 use super::wall::Class;

@@ -234,6 +234,13 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
         },
         || matte::refine(&f, &classes),
     );
+    // Windows between their frame's members (the ledges found): glass,
+    // and out of the wall's matte.
+    let mut small = small;
+    for i in glass::frames::find(&f, &classes, &ledges) {
+        classes[i] = Class::Glass;
+        small[i] = 0.0;
+    }
     let wall_fraction = small.iter().sum::<f32>() / small.len().max(1) as f32;
     if wall_fraction < 0.01 {
         return Err(Error::NoWall {
