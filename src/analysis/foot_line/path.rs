@@ -11,9 +11,11 @@
 //! A. Shamir, "Seam carving for content-aware image resizing", SIGGRAPH
 //! 2007).
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
-use super::super::features::Features;
+use super::super::features::{Features, texture_radius};
 use super::super::wall::Class;
 
 /// The path is looked for below this share of the height (the ground
@@ -71,6 +73,24 @@ const SIDE_WEIGHT: f32 = 1.0;
 /// recall: 0.3 0.378 / 0.120, 0.4 0.399 / 0.125, 0.55-0.6 lower recall].
 const BIAS: f32 = 0.4;
 
+/// Mean luma gradient ([`Features::texture`]) under which both boxes
+/// either side of a row (kept [`Reach::margin`] off the row, so the
+/// step's own edge does not count) are plain: rendered plaster over
+/// asphalt, a smooth render over smooth paving. Their gradients are
+/// noise, which points every way, so [`STANDS_UP`] cannot hold there and
+/// the colour step alone decides ([`PLAIN_BIAS`]) [measured: the demo
+/// facade's plaster 0.025-0.033 (5-95%), its asphalt 0.022; a brick
+/// close-up's courses 0.04 and more (0.04 found a foot on it); LabelMeFacade
+/// train with [`PLAIN_BIAS`] 0.4, precision / recall 0.025 0.381 / 0.126,
+/// 0.035 0.377 / 0.125; 0.03 found the demo's foot in 66% of its width].
+const PLAIN: f32 = 0.035;
+
+/// A plain row's colour step less this is its score (it has no
+/// uprightness to add) [choice, LabelMeFacade train with [`PLAIN`] 0.035,
+/// precision / recall: 0.4 0.377 / 0.125, 0.7 0.390 / 0.125, 1.0 0.391 /
+/// 0.125; the demo facade's plaster over asphalt steps by 1.16].
+const PLAIN_BIAS: f32 = 0.7;
+
 /// Score of a row where the wall is not seen above or the ground not
 /// below.
 const NOT_HERE: f32 = -1.0;
@@ -89,207 +109,319 @@ const MAX_STEP: usize = 2;
 /// train numbers, 1.2-1.5 lower precision before [`STANDS_UP`]).
 const SWITCH_COST: f32 = 0.6;
 
+/// Where the path's column of scores reaches: the rows it is looked for
+/// in and the boxes around each row, in rows of the `h`-tall analysis.
+#[derive(Clone, Copy)]
+struct Reach {
+    /// Rows `y0..y1` are scored.
+    y0: usize,
+    y1: usize,
+    /// The first row any score looks at (the boxes above `y0`).
+    top: usize,
+    /// Rows averaged either side of a colour step ([`STEP_SIDE`]).
+    side: usize,
+    /// Rows of the boxes whose gradients are compared ([`SIDE_BOX`]).
+    boxed: usize,
+    /// Rows from [`WALL_FROM`] to [`WALL_TO`] above, [`GROUND_BELOW`].
+    wall_from: usize,
+    wall_to: usize,
+    ground: usize,
+    /// Rows the texture of an edge spreads either side of it.
+    margin: usize,
+}
+
+impl Reach {
+    fn new(w: usize, h: usize) -> Option<Reach> {
+        let y0 = (BAND_TOP * h as f32) as usize;
+        let side = ((STEP_SIDE * h as f32).round() as usize).max(1);
+        let y1 = h.saturating_sub(side + 1);
+        let boxed = ((SIDE_BOX * h as f32).round() as usize).max(2);
+        let wall_from = (WALL_FROM * h as f32) as usize;
+        (y1 > y0 + 1).then(|| Reach {
+            y0,
+            y1,
+            top: y0.saturating_sub(wall_from.max(boxed).max(side)),
+            side,
+            boxed,
+            wall_from,
+            wall_to: ((WALL_TO * h as f32) as usize).max(1),
+            ground: ((GROUND_BELOW * h as f32) as usize).max(2),
+            margin: texture_radius(w, h) + 1,
+        })
+    }
+}
+
 /// Per column of the `w` x `h` analysis, the row of the wall's foot on
 /// the best path (the first row below the wall), `NaN` where the path is
 /// in its "no foot" state.
 pub(super) fn rows(f: &Features, classes: &[Class]) -> Vec<f32> {
-    let (w, h) = (f.w, f.h);
-    let y0 = (BAND_TOP * h as f32) as usize;
-    let side = ((STEP_SIDE * h as f32).round() as usize).max(1);
-    let y1 = h.saturating_sub(side + 1);
-    if y1 <= y0 + 1 || w < 3 {
+    let w = f.w;
+    let Some(reach) = Reach::new(f.w, f.h).filter(|_| w >= 3) else {
         return vec![f32::NAN; w];
-    }
-    let score = scores(f, classes, y0, y1);
-    viterbi(&score, w, y1 - y0)
+    };
+    let score = scores(f, classes, reach);
+    viterbi(&score, w, reach.y1 - reach.y0)
         .into_iter()
-        .map(|r| r.map_or(f32::NAN, |r| (r + y0) as f32))
+        .map(|r| r.map_or(f32::NAN, |r| (r + reach.y0) as f32))
         .collect()
 }
 
-/// Prefix sums down each column of `v` (`w` x `h`): `(h + 1) * w`.
-fn column_sums(v: &[f32], w: usize, h: usize) -> Vec<f32> {
-    let mut s = vec![0f32; (h + 1) * w];
-    for y in 0..h {
-        for x in 0..w {
-            s[(y + 1) * w + x] = s[y * w + x] + v[y * w + x];
+/// Per pixel of rows `top..h`, the share of the luma gradients' energy
+/// that points sideways over the row's [`SIDE_HALF_WIDTH`] neighbours
+/// either side (Sobel, `Jxx / (Jxx + Jyy)`, as `stands_over_flat`); 0 on
+/// the photo's edge rows and columns.
+fn sideways(f: &Features, top: usize) -> Vec<f32> {
+    let (w, h) = (f.w, f.h);
+    let r = SIDE_HALF_WIDTH;
+    let mut out = vec![0f32; (h - top) * w];
+    out.par_chunks_mut(w).enumerate().for_each(|(i, row)| {
+        let y = top + i;
+        if y == 0 || y + 1 >= h {
+            return;
         }
-    }
-    s
-}
-
-/// Mean of column `x` of the summed plane `s` over rows `a..b`.
-fn mean(s: &[f32], w: usize, x: usize, a: usize, b: usize) -> f32 {
-    if b <= a {
-        return 0.0;
-    }
-    (s[b * w + x] - s[a * w + x]) / (b - a) as f32
-}
-
-/// `v` averaged over `r` columns either side (a running sum per row).
-fn across(v: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
-    let mut out = vec![0f32; w * h];
-    out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-        let src = &v[y * w..(y + 1) * w];
-        let mut sum: f32 = src[..r.min(w)].iter().sum();
+        let l = &f.luma;
+        let (mut jxx, mut jyy) = (vec![0f32; w], vec![0f32; w]);
+        for x in 1..w - 1 {
+            let at = |dx: isize, dy: isize| {
+                l[(y as isize + dy) as usize * w + (x as isize + dx) as usize]
+            };
+            let gx =
+                at(1, -1) + 2.0 * at(1, 0) + at(1, 1) - at(-1, -1) - 2.0 * at(-1, 0) - at(-1, 1);
+            let gy =
+                at(-1, 1) + 2.0 * at(0, 1) + at(1, 1) - at(-1, -1) - 2.0 * at(0, -1) - at(1, -1);
+            jxx[x] = gx * gx;
+            jyy[x] = gy * gy;
+        }
+        // Running sums over the (clipped) window of each column.
+        let (mut sx, mut sy): (f32, f32) =
+            (jxx[..r.min(w)].iter().sum(), jyy[..r.min(w)].iter().sum());
         for (x, o) in row.iter_mut().enumerate() {
             if x + r < w {
-                sum += src[x + r];
+                sx += jxx[x + r];
+                sy += jyy[x + r];
             }
             if x > r {
-                sum -= src[x - r - 1];
+                sx -= jxx[x - r - 1];
+                sy -= jyy[x - r - 1];
             }
-            let (a, b) = (x.saturating_sub(r), (x + r + 1).min(w));
-            *o = sum / (b - a) as f32;
+            let n = ((x + r + 1).min(w) - x.saturating_sub(r)) as f32;
+            let (a, b) = (sx / n, sy / n);
+            *o = a / (a + b + 1e-6);
         }
     });
     out
 }
 
-/// Per pixel, the share of the luma gradients' energy that points
-/// sideways over the row's [`SIDE_HALF_WIDTH`] neighbours either side
-/// (Sobel, `Jxx / (Jxx + Jyy)`, as `stands_over_flat`).
-fn sideways(f: &Features) -> Vec<f32> {
-    let (w, h) = (f.w, f.h);
-    let mut jxx = vec![0f32; w * h];
-    let mut jyy = vec![0f32; w * h];
-    jxx.par_chunks_mut(w)
-        .zip(jyy.par_chunks_mut(w))
-        .enumerate()
-        .for_each(|(y, (ox, oy))| {
-            if y == 0 || y + 1 >= h {
-                return;
+/// Columns whose sums are taken together (one pass along each row of
+/// the planes, not down them).
+const BLOCK: usize = 64;
+
+/// What a block of columns sums down its rows, in [`Block::sums`]' order.
+const RED: usize = 0;
+const SIDE: usize = 3;
+const TEXTURE: usize = 4;
+const WALL: usize = 5;
+const GROUND: usize = 6;
+
+/// Running sums down a block of columns from row `top`: for each of its
+/// seven planes, entry `(y - top) * n + j` is column `j`'s sum over rows
+/// `top..y`. The planes: red, green, blue (each over the column and its
+/// neighbours), the sideways share, the texture, wall and ground.
+struct Block {
+    top: usize,
+    n: usize,
+    sums: [Vec<f32>; 7],
+}
+
+impl Block {
+    /// The sums of columns `xs` from row `top` down; `up` is [`sideways`]
+    /// from `top`.
+    fn of(f: &Features, classes: &[Class], up: &[f32], top: usize, xs: Range<usize>) -> Block {
+        let (w, h, n) = (f.w, f.h, xs.len());
+        let down = |row: &dyn Fn(usize, &mut [f32])| {
+            let mut out = vec![0f32; (h - top + 1) * n];
+            let mut v = vec![0f32; n];
+            for y in top..h {
+                row(y, &mut v);
+                let (done, next) = out.split_at_mut((y + 1 - top) * n);
+                let last = &done[(y - top) * n..];
+                for ((o, l), v) in next[..n].iter_mut().zip(last).zip(&v) {
+                    *o = l + v;
+                }
             }
-            let l = &f.luma;
-            for x in 1..w - 1 {
-                let at = |dx: isize, dy: isize| {
-                    l[(y as isize + dy) as usize * w + (x as isize + dx) as usize]
-                };
-                let gx = at(1, -1) + 2.0 * at(1, 0) + at(1, 1)
-                    - at(-1, -1)
-                    - 2.0 * at(-1, 0)
-                    - at(-1, 1);
-                let gy = at(-1, 1) + 2.0 * at(0, 1) + at(1, 1)
-                    - at(-1, -1)
-                    - 2.0 * at(0, -1)
-                    - at(1, -1);
-                ox[x] = gx * gx;
-                oy[x] = gy * gy;
+            out
+        };
+        // A colour plane over each column and its neighbours (two at the
+        // photo's edges).
+        let (lo, hi) = (xs.start.max(1), xs.end.min(w - 1));
+        let across = |p: &[f32]| {
+            down(&|y, v| {
+                let row = &p[y * w..(y + 1) * w];
+                if lo < hi {
+                    let three = row[lo - 1..hi - 1]
+                        .iter()
+                        .zip(&row[lo..hi])
+                        .zip(&row[lo + 1..]);
+                    for (o, ((a, b), c)) in v[lo - xs.start..].iter_mut().zip(three) {
+                        *o = (a + b + c) / 3.0;
+                    }
+                }
+                if xs.start == 0 {
+                    v[0] = (row[0] + row[1]) / 2.0;
+                }
+                if xs.end == w {
+                    v[n - 1] = (row[w - 2] + row[w - 1]) / 2.0;
+                }
+            })
+        };
+        let plain = |p: &[f32], from: usize| {
+            down(&|y, v| v.copy_from_slice(&p[(y - from) * w + xs.start..(y - from) * w + xs.end]))
+        };
+        let is = |c: Class| {
+            down(&|y, v| {
+                let row = &classes[y * w + xs.start..y * w + xs.end];
+                for (o, &k) in v.iter_mut().zip(row) {
+                    *o = (k == c) as u8 as f32;
+                }
+            })
+        };
+        Block {
+            top,
+            n,
+            sums: [
+                across(&f.rgb[0]),
+                across(&f.rgb[1]),
+                across(&f.rgb[2]),
+                plain(up, top),
+                plain(&f.texture, 0),
+                is(Class::Wall),
+                is(Class::Ground),
+            ],
+        }
+    }
+
+    /// Column `j`'s mean of plane `k` over rows `a..b` (0 when empty).
+    fn mean(&self, k: usize, j: usize, a: usize, b: usize) -> f32 {
+        if b <= a {
+            return 0.0;
+        }
+        let s = &self.sums[k];
+        (s[(b - self.top) * self.n + j] - s[(a - self.top) * self.n + j]) / (b - a) as f32
+    }
+
+    /// The score of row `y` of column `j` of the `h`-tall analysis.
+    fn score(&self, r: Reach, j: usize, y: usize, h: usize) -> f32 {
+        let mean = |k: usize, a: usize, b: usize| self.mean(k, j, a, b);
+        let wall_ok = y >= r.wall_from && mean(WALL, y - r.wall_from, y - r.wall_to) >= WALL_SHARE;
+        if !wall_ok || mean(GROUND, y, (y + r.ground).min(h)) < GROUND_SHARE {
+            return NOT_HERE;
+        }
+        let step: f32 = (RED..RED + 3)
+            .map(|k| (mean(k, y - r.side, y) - mean(k, y, y + r.side)).abs())
+            .sum();
+        let (above, below) = (y.saturating_sub(r.boxed), (y + r.boxed).min(h));
+        let up = mean(SIDE, above, y) - mean(SIDE, y, below);
+        // The surfaces' texture, not the step's own (the texture is a box
+        // mean, raised this far either side of the edge).
+        let m = r.margin;
+        let (ta, tb) = (above.saturating_sub(m).max(self.top), (below + m).min(h));
+        let plain =
+            mean(TEXTURE, ta, y - m.min(y - ta)).max(mean(TEXTURE, (y + m).min(tb), tb)) < PLAIN;
+        if up >= STANDS_UP {
+            step + SIDE_WEIGHT * up - BIAS
+        } else if plain {
+            step - PLAIN_BIAS
+        } else {
+            NOT_HERE
+        }
+    }
+}
+
+/// The score of each row `y0..y1` of each column, column major
+/// (`(y1 - y0) * w`).
+fn scores(f: &Features, classes: &[Class], reach: Reach) -> Vec<f32> {
+    let Reach { y0, y1, top, .. } = reach;
+    let up = sideways(f, top);
+    let rows = y1 - y0;
+    let mut out = vec![0f32; rows * f.w];
+    out.par_chunks_mut(rows * BLOCK)
+        .enumerate()
+        .for_each(|(b, cols)| {
+            let x0 = b * BLOCK;
+            let block = Block::of(f, classes, &up, top, x0..x0 + cols.len() / rows);
+            for (j, col) in cols.chunks_mut(rows).enumerate() {
+                for (i, o) in col.iter_mut().enumerate() {
+                    *o = block.score(reach, j, y0 + i, f.h);
+                }
             }
         });
-    let (sx, sy) = (
-        across(&jxx, w, h, SIDE_HALF_WIDTH),
-        across(&jyy, w, h, SIDE_HALF_WIDTH),
-    );
-    sx.iter()
-        .zip(&sy)
-        .map(|(a, b)| a / (a + b + 1e-6))
-        .collect()
-}
-
-/// The score of each row `y0..y1` of each column, `(y1 - y0) * w`, row
-/// major.
-fn scores(f: &Features, classes: &[Class], y0: usize, y1: usize) -> Vec<f32> {
-    let (w, h) = (f.w, f.h);
-    let side = ((STEP_SIDE * h as f32).round() as usize).max(1);
-    let n = ((SIDE_BOX * h as f32).round() as usize).max(2);
-    let rgb: Vec<Vec<f32>> = f
-        .rgb
-        .iter()
-        .map(|p| column_sums(&across(p, w, h, 1), w, h))
-        .collect();
-    let side_sum = column_sums(&sideways(f), w, h);
-    let is = |c: Class| -> Vec<f32> {
-        classes
-            .iter()
-            .map(|&k| if k == c { 1.0 } else { 0.0 })
-            .collect()
-    };
-    let wall = column_sums(&is(Class::Wall), w, h);
-    let ground = column_sums(&is(Class::Ground), w, h);
-    let (wf, wt) = (
-        (WALL_FROM * h as f32) as usize,
-        ((WALL_TO * h as f32) as usize).max(1),
-    );
-    let gb = ((GROUND_BELOW * h as f32) as usize).max(2);
-    let mut out = vec![0f32; (y1 - y0) * w];
-    out.par_chunks_mut(w).enumerate().for_each(|(i, row)| {
-        let y = y0 + i;
-        for (x, o) in row.iter_mut().enumerate() {
-            let wall_ok = y >= wf && mean(&wall, w, x, y - wf, y - wt) >= WALL_SHARE;
-            let ground_ok = mean(&ground, w, x, y, (y + gb).min(h)) >= GROUND_SHARE;
-            if !(wall_ok && ground_ok) {
-                *o = NOT_HERE;
-                continue;
-            }
-            let step: f32 = rgb
-                .iter()
-                .map(|s| (mean(s, w, x, y - side, y) - mean(s, w, x, y, y + side)).abs())
-                .sum();
-            let up = mean(&side_sum, w, x, y.saturating_sub(n), y)
-                - mean(&side_sum, w, x, y, (y + n).min(h));
-            *o = if up < STANDS_UP {
-                NOT_HERE
-            } else {
-                step + SIDE_WEIGHT * up - BIAS
-            };
-        }
-    });
     out
 }
 
-/// The best path through the `w` columns of `score` (`rows` x `w`, row
-/// major): per column its row, or `None` in the "no foot" state.
+/// The best path through the `w` columns of `score` (`rows` per column,
+/// column major): per column its row, or `None` in the "no foot" state.
+/// Only the rows some column can have its foot on are searched: a path
+/// through the others does no better than one kept to the nearest of
+/// those (it scores [`NOT_HERE`] there too, and steps no less).
 fn viterbi(score: &[f32], w: usize, rows: usize) -> Vec<Option<usize>> {
+    let here = |i: usize| score[i] > NOT_HERE;
+    let (Some(lo), Some(hi)) = (
+        (0..w * rows).filter(|&i| here(i)).map(|i| i % rows).min(),
+        (0..w * rows).filter(|&i| here(i)).map(|i| i % rows).max(),
+    ) else {
+        return vec![None; w];
+    };
+    let n = hi + 1 - lo;
+    let col = |x: usize| &score[x * rows + lo..x * rows + lo + n];
     let (cost, switch, d) = (STEP_COST, SWITCH_COST, MAX_STEP);
     // Per column: the best total ending on each row, and in "no foot"
-    // (index `rows`); where each came from.
-    let mut prev: Vec<f32> = (0..rows).map(|r| score[r * w]).collect();
+    // (index `n`); where each came from.
+    let mut prev: Vec<f32> = col(0).to_vec();
     prev.push(0.0);
-    let mut from = vec![0u32; w * (rows + 1)];
-    let mut cur = vec![0f32; rows + 1];
+    let mut from = vec![0u32; w * (n + 1)];
+    let mut cur = vec![0f32; n + 1];
     for x in 1..w {
         let (best_on, best_r) =
-            prev[..rows]
+            prev[..n]
                 .iter()
                 .enumerate()
                 .fold(
                     (f32::NEG_INFINITY, 0),
-                    |b, (r, &v)| {
-                        if v > b.0 { (v, r) } else { b }
-                    },
+                    |b, (r, &v)| if v > b.0 { (v, r) } else { b },
                 );
-        let off = prev[rows];
-        for r in 0..rows {
-            let (mut best, mut arg) = (off - switch, rows);
-            let lo = r.saturating_sub(d);
-            for (q, &p) in prev[lo..(r + d + 1).min(rows)].iter().enumerate() {
-                let q = lo + q;
+        let off = prev[n];
+        let s = col(x);
+        let links = &mut from[x * (n + 1)..(x + 1) * (n + 1)];
+        for r in 0..n {
+            let (mut best, mut arg) = (off - switch, n);
+            let q0 = r.saturating_sub(d);
+            for (q, &p) in prev[q0..(r + d + 1).min(n)].iter().enumerate() {
+                let q = q0 + q;
                 let v = p - cost * q.abs_diff(r) as f32;
                 if v > best {
                     best = v;
                     arg = q;
                 }
             }
-            cur[r] = best + score[r * w + x];
-            from[x * (rows + 1) + r] = arg as u32;
+            cur[r] = best + s[r];
+            links[r] = arg as u32;
         }
         if best_on - switch > off {
-            cur[rows] = best_on - switch;
-            from[x * (rows + 1) + rows] = best_r as u32;
+            cur[n] = best_on - switch;
+            links[n] = best_r as u32;
         } else {
-            cur[rows] = off;
-            from[x * (rows + 1) + rows] = rows as u32;
+            cur[n] = off;
+            links[n] = n as u32;
         }
         std::mem::swap(&mut prev, &mut cur);
     }
-    let mut state = (0..=rows)
+    let mut state = (0..=n)
         .max_by(|&a, &b| prev[a].total_cmp(&prev[b]))
-        .unwrap_or(rows);
+        .unwrap_or(n);
     let mut out = vec![None; w];
     for x in (0..w).rev() {
-        out[x] = (state < rows).then_some(state);
-        state = from[x * (rows + 1) + state] as usize;
+        out[x] = (state < n).then_some(state + lo);
+        state = from[x * (n + 1) + state] as usize;
     }
     out
 }
