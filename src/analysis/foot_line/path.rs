@@ -4,7 +4,8 @@
 //! short of it): per column, every row of the lower part of the photo is
 //! scored by how much it looks like a wall standing on the ground (a
 //! colour step, what is above standing up and what is below lying flat,
-//! the wall seen above it), and one path through the columns is chosen
+//! the wall seen above it; where both sides are plain, as a rendered wall
+//! over asphalt, the colour step alone), and one path through the columns is chosen
 //! by dynamic programming (Viterbi: the best sum of scores less a penalty
 //! per row the path steps from one column to the next, with a state "no
 //! foot here" entered and left at a cost), as a seam is carved (S. Avidan,
@@ -23,11 +24,11 @@ use super::super::wall::Class;
 const BAND_TOP: f32 = 0.3;
 
 /// Rows averaged on each side of a candidate step, share of the height
-/// (as [`super::STEP_SIDE`]).
+/// (as foot22's `STEP_SIDE`).
 const STEP_SIDE: f32 = 0.006;
 
 /// The boxes above and below a row whose gradients are compared are this
-/// share of the height tall (as [`super::SIDE_BOX`]) ...
+/// share of the height tall (as foot22's `SIDE_BOX`) ...
 const SIDE_BOX: f32 = 0.03;
 
 /// ... and this many pixels either side of the column wide.
