@@ -129,6 +129,8 @@ struct Reach {
     ground: usize,
     /// Rows the texture of an edge spreads either side of it.
     margin: usize,
+    /// The first row the sideways share is read on.
+    up_from: usize,
 }
 
 impl Reach {
@@ -148,6 +150,7 @@ impl Reach {
             wall_to: ((WALL_TO * h as f32) as usize).max(1),
             ground: ((GROUND_BELOW * h as f32) as usize).max(2),
             margin: texture_radius(w, h) + 1,
+            up_from: y0.saturating_sub(boxed),
         })
     }
 }
@@ -235,9 +238,17 @@ struct Block {
 }
 
 impl Block {
-    /// The sums of columns `xs` from row `top` down; `up` is [`sideways`]
-    /// from `top`.
-    fn of(f: &Features, classes: &[Class], up: &[f32], top: usize, xs: Range<usize>) -> Block {
+    /// The sums of columns `xs` from row `reach.top` down; `up` is
+    /// [`sideways`] from `reach.up_from`. `None` when no row of the block has the wall above it and the
+    /// ground below ([`Block::here`]): its other sums are not taken.
+    fn of(
+        f: &Features,
+        classes: &[Class],
+        up: &[f32],
+        reach: Reach,
+        xs: Range<usize>,
+    ) -> Option<Block> {
+        let top = reach.top;
         let (w, h, n) = (f.w, f.h, xs.len());
         let down = |row: &dyn Fn(usize, &mut [f32])| {
             let mut out = vec![0f32; (h - top + 1) * n];
@@ -275,9 +286,6 @@ impl Block {
                 }
             })
         };
-        let plain = |p: &[f32], from: usize| {
-            down(&|y, v| v.copy_from_slice(&p[(y - from) * w + xs.start..(y - from) * w + xs.end]))
-        };
         let is = |c: Class| {
             down(&|y, v| {
                 let row = &classes[y * w + xs.start..y * w + xs.end];
@@ -286,19 +294,27 @@ impl Block {
                 }
             })
         };
-        Block {
+        let (wall, ground) = (is(Class::Wall), is(Class::Ground));
+        let mut block = Block {
             top,
             n,
-            sums: [
-                across(&f.rgb[0]),
-                across(&f.rgb[1]),
-                across(&f.rgb[2]),
-                plain(up, top),
-                plain(&f.texture, 0),
-                is(Class::Wall),
-                is(Class::Ground),
-            ],
+            sums: [vec![], vec![], vec![], vec![], vec![], wall, ground],
+        };
+        if !(0..n).any(|j| (reach.y0..reach.y1).any(|y| block.here(reach, j, y, h))) {
+            return None;
         }
+        let [r, g, b, side, texture, ..] = &mut block.sums;
+        [*r, *g, *b] = [across(&f.rgb[0]), across(&f.rgb[1]), across(&f.rgb[2])];
+        *side = down(&|y, v| {
+            if y >= reach.up_from {
+                let i = (y - reach.up_from) * w;
+                v.copy_from_slice(&up[i + xs.start..i + xs.end]);
+            } else {
+                v.fill(0.0);
+            }
+        });
+        *texture = down(&|y, v| v.copy_from_slice(&f.texture[y * w + xs.start..y * w + xs.end]));
+        Some(block)
     }
 
     /// Column `j`'s mean of plane `k` over rows `a..b` (0 when empty).
@@ -310,13 +326,22 @@ impl Block {
         (s[(b - self.top) * self.n + j] - s[(a - self.top) * self.n + j]) / (b - a) as f32
     }
 
+    /// Whether row `y` of column `j` has the wall classed above it
+    /// ([`WALL_FROM`]..[`WALL_TO`]) and the ground below it
+    /// ([`GROUND_BELOW`]).
+    fn here(&self, r: Reach, j: usize, y: usize, h: usize) -> bool {
+        let mean = |k: usize, a: usize, b: usize| self.mean(k, j, a, b);
+        y >= r.wall_from
+            && mean(WALL, y - r.wall_from, y - r.wall_to) >= WALL_SHARE
+            && mean(GROUND, y, (y + r.ground).min(h)) >= GROUND_SHARE
+    }
+
     /// The score of row `y` of column `j` of the `h`-tall analysis.
     fn score(&self, r: Reach, j: usize, y: usize, h: usize) -> f32 {
-        let mean = |k: usize, a: usize, b: usize| self.mean(k, j, a, b);
-        let wall_ok = y >= r.wall_from && mean(WALL, y - r.wall_from, y - r.wall_to) >= WALL_SHARE;
-        if !wall_ok || mean(GROUND, y, (y + r.ground).min(h)) < GROUND_SHARE {
+        if !self.here(r, j, y, h) {
             return NOT_HERE;
         }
+        let mean = |k: usize, a: usize, b: usize| self.mean(k, j, a, b);
         let step: f32 = (RED..RED + 3)
             .map(|k| (mean(k, y - r.side, y) - mean(k, y, y + r.side)).abs())
             .sum();
@@ -341,15 +366,18 @@ impl Block {
 /// The score of each row `y0..y1` of each column, column major
 /// (`(y1 - y0) * w`).
 fn scores(f: &Features, classes: &[Class], reach: Reach) -> Vec<f32> {
-    let Reach { y0, y1, top, .. } = reach;
-    let up = sideways(f, top);
+    let Reach { y0, y1, .. } = reach;
+    let up = sideways(f, reach.up_from);
     let rows = y1 - y0;
     let mut out = vec![0f32; rows * f.w];
     out.par_chunks_mut(rows * BLOCK)
         .enumerate()
         .for_each(|(b, cols)| {
             let x0 = b * BLOCK;
-            let block = Block::of(f, classes, &up, top, x0..x0 + cols.len() / rows);
+            let Some(block) = Block::of(f, classes, &up, reach, x0..x0 + cols.len() / rows) else {
+                cols.fill(NOT_HERE);
+                return;
+            };
             for (j, col) in cols.chunks_mut(rows).enumerate() {
                 for (i, o) in col.iter_mut().enumerate() {
                     *o = block.score(reach, j, y0 + i, f.h);
