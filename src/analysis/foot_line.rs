@@ -7,13 +7,14 @@
 //! before, [`class_line`]) is often something else on a street photo: a
 //! kerb, a shadow's edge, a car's sill, a walker's feet. The foot seen in
 //! the photo is
-//! - a step of colour (wall above, ground below) near the class map's
-//!   lowest wall row: each column's row is moved to the strongest step
-//!   within [`SNAP`] of it, and a column with no clear step has no foot;
-//! - under wall: the column is wall for [`WALL_ABOVE`] of the height right
-//!   above it (not a car's or a walker's lower edge, whose top is near);
-//! - over flat ground: the gradients above it point more sideways than
-//!   below it ([`stands_over_flat`]);
+//! - one path across the photo's lower part, not started from the class
+//!   line (which sits on the ground fill's top where the fill climbed
+//!   the wall, on a kerb where it stopped short): per column, the row
+//!   where a colour step has the wall classed above it (allowing for a
+//!   climbing fill), the ground below, and what stands up above what
+//!   lies flat, or plain surfaces on both sides ([`path`]: dynamic
+//!   programming over the columns, a penalty per row it steps, a "no
+//!   foot" state);
 //! - long and straight (a plane's edge under perspective is a straight
 //!   line): columns are grouped into runs whose rows step little, each run
 //!   is fitted with a line, columns off it are dropped (a walker's feet, a
@@ -25,45 +26,14 @@
 //!
 //! Measured against LabelMeFacade's labels ([`super::eval`], columns
 //! within 1.5% of the height of the labelled foot): train precision /
-//! recall 0.117 / 0.282 for the class line, 0.368 / 0.107 for this;
-//! held-out 0.104 / 0.254 and 0.191 / 0.044.
+//! recall 0.117 / 0.282 for the class line, 0.390 / 0.125 for this
+//! (0.368 / 0.107 snapping the class line to the nearest colour step);
+//! held-out 0.104 / 0.254 and 0.296 / 0.107 (0.191 / 0.044).
 
 use super::features::Features;
 use super::wall::Class;
 
-/// How far from the class map's lowest wall row the foot's colour step is
-/// looked for, share of the height.
-const SNAP: f32 = 0.015;
-
-/// Rows averaged on each side of a candidate step, share of the height.
-const STEP_SIDE: f32 = 0.006;
-
-/// A step of colour weaker than this (L1 of the mean colours above and
-/// below, 0..3) is no foot [choice: the step's strength tells the foot
-/// little on LabelMeFacade train (median 0.49 at the true foot, 0.56
-/// elsewhere); this only drops flat colour].
-const MIN_STEP: f32 = 0.02;
-
-/// Share of the height right above the foot that must be wall ...
-const WALL_ABOVE: f32 = 0.05;
-
-/// ... in at least this share of its rows [choice, LabelMeFacade train:
-/// 0.6, 0.8, 0.95 gave foot precision 0.38, 0.42, 0.32].
-const WALL_SHARE: f32 = 0.8;
-
-/// The boxes above and below a candidate foot whose gradients are
-/// compared ([`stands_over_flat`]) are this share of the height tall ...
-const SIDE_BOX: f32 = 0.03;
-
-/// ... and this many pixels either side of the column wide.
-const SIDE_HALF_WIDTH: usize = 4;
-
-/// What stands above the foot has a sideways share of the gradients'
-/// energy at least this much more than the ground below it [choice,
-/// LabelMeFacade train (prototype on main's class dumps), foot precision /
-/// recall with runs of 5%: no test 0.26 / 0.13, 0 0.32 / 0.11, 0.05 0.36 /
-/// 0.10].
-const STANDS_UP: f32 = 0.05;
+mod path;
 
 /// Consecutive columns of one run step by at most this, share of the
 /// height.
@@ -115,105 +85,7 @@ pub fn class_line(classes: &[Class], w: usize, h: usize) -> Vec<f32> {
 /// The wall's foot as polylines in analysis pixels, left to right, one per
 /// straight stretch (see the module's documentation).
 pub fn find(f: &Features, classes: &[Class]) -> Vec<Vec<[f32; 2]>> {
-    let (w, h) = (f.w, f.h);
-    let start = class_line(classes, w, h);
-    let rows: Vec<f32> = (0..w)
-        .map(|x| {
-            let y = start[x];
-            if y.is_nan() {
-                return f32::NAN;
-            }
-            snap(f, x, y as usize)
-                .filter(|&y| wall_above(classes, w, h, x, y) && stands_over_flat(f, x, y))
-                .map_or(f32::NAN, |y| y as f32)
-        })
-        .collect();
-    runs(&rows, w, h)
-}
-
-/// The row of the strongest colour step within [`SNAP`] of row `y` in
-/// column `x` (the first row below it), if it is strong enough.
-fn snap(f: &Features, x: usize, y: usize) -> Option<usize> {
-    let (w, h) = (f.w, f.h);
-    let reach = ((SNAP * h as f32).round() as usize).max(1);
-    let side = ((STEP_SIDE * h as f32).round() as usize).max(1);
-    let mean = |y0: usize, y1: usize| {
-        let mut s = [0f32; 3];
-        let (x0, x1) = (x.saturating_sub(1), (x + 2).min(w));
-        for yy in y0..y1 {
-            for xx in x0..x1 {
-                let i = yy * w + xx;
-                for (k, v) in s.iter_mut().enumerate() {
-                    *v += f.rgb[k][i];
-                }
-            }
-        }
-        let n = ((y1 - y0) * (x1 - x0)).max(1) as f32;
-        s.map(|v| v / n)
-    };
-    let lo = y.saturating_sub(reach).max(side);
-    let hi = (y + reach).min(h.saturating_sub(side));
-    let mut best: Option<(f32, usize)> = None;
-    for r in lo..=hi {
-        let step = super::features::l1(mean(r - side, r), mean(r, r + side));
-        if best.is_none_or(|(s, _)| step > s) {
-            best = Some((step, r));
-        }
-    }
-    best.filter(|&(s, _)| s >= MIN_STEP).map(|(_, r)| r)
-}
-
-/// Whether column `x` is wall right above row `y` ([`WALL_ABOVE`]).
-fn wall_above(classes: &[Class], w: usize, h: usize, x: usize, y: usize) -> bool {
-    let n = ((WALL_ABOVE * h as f32).round() as usize).max(2);
-    if y < n {
-        return false;
-    }
-    let walls = (y - n..y)
-        .filter(|&r| classes[r * w + x] == Class::Wall)
-        .count();
-    walls as f32 >= WALL_SHARE * n as f32
-}
-
-/// Whether what lies above row `y` in column `x` stands up and what lies
-/// below lies flat: the share of the luma gradients' energy that points
-/// sideways (structure tensor, `Jxx / (Jxx + Jyy)`, as
-/// [`super::plane`]) over [`SIDE_BOX`] of the height above is at least
-/// [`STANDS_UP`] more than below. Seen from eye level the ground is
-/// foreshortened (its joints and kerbs run across the view), a wall has
-/// jambs, corners and pipes; a kerb, a car's sill or a shadow on the road
-/// has flat ground on both sides.
-fn stands_over_flat(f: &Features, x: usize, y: usize) -> bool {
-    let (w, h) = (f.w, f.h);
-    let n = ((SIDE_BOX * h as f32).round() as usize).max(2);
-    // Each row's share over the box's width, averaged over its rows.
-    let sideways = |y0: usize, y1: usize| {
-        let (mut sum, mut rows) = (0f32, 0usize);
-        for r in y0.max(1)..y1.min(h - 1) {
-            let (mut jxx, mut jyy) = (0f32, 0f32);
-            for c in x.saturating_sub(SIDE_HALF_WIDTH).max(1)..(x + SIDE_HALF_WIDTH + 1).min(w - 1)
-            {
-                let at = |dx: isize, dy: isize| {
-                    f.luma[(r as isize + dy) as usize * w + (c as isize + dx) as usize]
-                };
-                // Sobel.
-                let gx = at(1, -1) + 2.0 * at(1, 0) + at(1, 1)
-                    - at(-1, -1)
-                    - 2.0 * at(-1, 0)
-                    - at(-1, 1);
-                let gy = at(-1, 1) + 2.0 * at(0, 1) + at(1, 1)
-                    - at(-1, -1)
-                    - 2.0 * at(0, -1)
-                    - at(1, -1);
-                jxx += gx * gx;
-                jyy += gy * gy;
-            }
-            sum += jxx / (jxx + jyy + 1e-6);
-            rows += 1;
-        }
-        sum / rows.max(1) as f32
-    };
-    sideways(y.saturating_sub(n), y) - sideways(y, y + n) >= STANDS_UP
+    runs(&path::rows(f, classes), f.w, f.h)
 }
 
 /// Groups the per-column rows into long straight runs, each fitted with a
