@@ -271,11 +271,7 @@ impl<'a> Stainer<'a> {
                 rain::fall::widen(cover, wide, fade, &self.fall);
             }
             // No fall: the stain as it is, below the sources.
-            None => cover
-                .data_mut()
-                .par_iter_mut()
-                .zip(fade.data())
-                .for_each(|(c, f)| *c *= f),
+            None => rain::stain::scale(cover, fade),
         }
         self.wander.apply(cover);
         if let Some(gain) = &self.gain {

@@ -172,7 +172,7 @@ pub(super) fn rows(f: &Features, classes: &[Class]) -> Vec<f32> {
 
 /// Per pixel of rows `top..h`, the share of the luma gradients' energy
 /// that points sideways over the row's [`SIDE_HALF_WIDTH`] neighbours
-/// either side (Sobel, `Jxx / (Jxx + Jyy)`, as `stands_over_flat`); 0 on
+/// either side (Sobel, `Jxx / (Jxx + Jyy)`, as foot22's `stands_over_flat`); 0 on
 /// the photo's edge rows and columns.
 fn sideways(f: &Features, top: usize) -> Vec<f32> {
     let (w, h) = (f.w, f.h);
