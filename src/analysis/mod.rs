@@ -22,6 +22,7 @@ mod courses;
 mod crowns;
 pub mod eval;
 mod features;
+mod flips;
 mod foliage;
 pub mod foot_line;
 mod glass;
