@@ -191,7 +191,11 @@ impl<'a> Stainer<'a> {
         let lines = grid_lines(ctx, r);
         let found: Vec<_> = r.source_lines.iter().map(|l| found(ctx, l)).collect();
         let kinds: Vec<_> = found.iter().map(|l| l.map(|l| l.kind)).collect();
-        let twins = rain::twins::Twins::new(preset.seed, &r.source_lines, &kinds, r.twins);
+        let sure: Vec<_> = found
+            .iter()
+            .map(|l| rain::fall::sure(confidence(*l), r.sure_at))
+            .collect();
+        let twins = rain::twins::Twins::new(preset.seed, &r.source_lines, &kinds, &sure, r.twins);
         // The drip points the rain released its water from.
         let warps: Vec<_> = lines
             .iter()
@@ -200,10 +204,6 @@ impl<'a> Stainer<'a> {
                 let len = rain::sources::Source::line(rain::padded(line)).length();
                 twins.warp(i, rain::sources::line_warp(preset.seed, i, len, &release))
             })
-            .collect();
-        let sure: Vec<_> = found
-            .iter()
-            .map(|l| rain::fall::sure(confidence(*l), r.sure_at))
             .collect();
         let ledges: Vec<_> = lines
             .iter()
