@@ -129,9 +129,10 @@ fn families(extents: &[Option<Extent>]) -> Vec<usize> {
 
 /// The least sureness ([`super::fall::sure`]) of a ledge with twins
 /// [choice: 0.25, a confidence of 0.15 at `rain.sure_at` 0.6. A family
-/// shares its members' mean sureness ([`family_sure`]), and with no
-/// floor the bottom edge of a road sign (img_2308, confidence 0.05) took
-/// its family's 0.8 and shed a streak down the post; 182 of the 1344
+/// shares one sureness ([`family_sure`]); when it was the members' mean,
+/// with no floor the bottom edge of a road sign (img_2308, confidence
+/// 0.05) took its family's 0.8 and shed a streak down the post, and with
+/// the least, one such edge would fade a whole row of sure sills; 182 of the 1344
 /// twinned sills and window heads of the 100 LMF train photos are under
 /// 0.1, 14% of them at a labelled window's edge (33% of those over 0.6)].
 const LEAST_SURE: f32 = 0.25;
@@ -228,20 +229,20 @@ impl Twins {
 }
 
 /// A family's sureness from its members' (`None` when it has none):
-/// their mean [choice, by looking and measuring on the 100 LMF train
-/// photos (BENCHMARKS.md, twenty-third pass, twins25): the mean takes the
-/// twins' ink's CV across a family from 0.421 (drains shared, each its
-/// own sureness) to 0.335 and leaves the total darkening as it was
-/// (+1%); the max to 0.326 but raised the ink under doubtful ledges 22%
-/// (film24's false ledges: streaks off a roof eave taken for a window
-/// head, IMG_0692), the max of a ledge's own and the mean to 0.347, +12%
-/// there].
+/// the least of them [choice, by blind checks and measuring on the 100 LMF
+/// train photos (BENCHMARKS.md, twenty-third pass, twins25 and the lead's
+/// p48/p49): the mean took the twins' ink's CV across a family from 0.414
+/// to 0.322 with +1% total darkening and +5.4% under doubtful ledges, and
+/// lost blind check p48 (main better 4, twins 1: heavier streaks on a
+/// person and on signs the analysis called wall); the least takes the CV
+/// to 0.337 with -5% darkening (p49: twins better 4, main 3); the max to
+/// 0.326 but raised the ink under doubtful ledges 22% (film24's false
+/// ledges: streaks off a roof eave taken for a window head, IMG_0692)].
 fn family_sure(members: &[f32]) -> Option<f32> {
     if members.is_empty() {
         return None;
     }
-    let n = members.len() as f32;
-    Some(members.iter().sum::<f32>() / n)
+    Some(members.iter().copied().fold(f32::INFINITY, f32::min))
 }
 
 #[cfg(test)]
