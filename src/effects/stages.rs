@@ -189,24 +189,31 @@ impl<'a> Stainer<'a> {
         let release = release(ctx, r);
         let top_edge = r.top_edge.then(|| top_rows(ctx.region));
         let lines = grid_lines(ctx, r);
+        let found: Vec<_> = r.source_lines.iter().map(|l| found(ctx, l)).collect();
+        let kinds: Vec<_> = found.iter().map(|l| l.map(|l| l.kind)).collect();
+        let sure: Vec<_> = found
+            .iter()
+            .map(|l| rain::fall::sure(confidence(*l), r.sure_at))
+            .collect();
+        let twins = rain::twins::Twins::new(preset.seed, &r.source_lines, &kinds, &sure, r.twins);
         // The drip points the rain released its water from.
         let warps: Vec<_> = lines
             .iter()
             .enumerate()
             .map(|(i, line)| {
                 let len = rain::sources::Source::line(rain::padded(line)).length();
-                rain::sources::line_warp(preset.seed, i, len, &release)
+                twins.warp(i, rain::sources::line_warp(preset.seed, i, len, &release))
             })
             .collect();
         let ledges: Vec<_> = lines
             .iter()
             .zip(&warps)
-            .zip(&r.source_lines)
-            .map(|((line, warp), photo)| rain::fall::Ledge {
+            .zip(r.source_lines.iter().zip(twins.sure(&sure)))
+            .map(|((line, warp), (photo, sure))| rain::fall::Ledge {
                 line,
                 warp: warp.as_ref(),
                 catch: catch(ctx, photo),
-                sure: rain::fall::sure(confidence(ctx, photo), r.sure_at),
+                sure,
             })
             .collect();
         let fall = rain::fall::fade(
@@ -343,11 +350,11 @@ impl<'a> Stainer<'a> {
     }
 }
 
-/// The analysis's confidence in the ledge it found along `line` (photo
-/// pixels, as in `rain.source_lines`): the site's ledge with the same
-/// vertices (within half a pixel, so a preview's scaled lines match); 1
-/// for a line the analysis did not find (a preset's or the user's own).
-fn confidence(ctx: &Context, line: &[[f32; 2]]) -> f32 {
+/// The ledge the analysis found along `line` (photo pixels, as in
+/// `rain.source_lines`): the site's ledge with the same vertices (within
+/// half a pixel, so a preview's scaled lines match); `None` for a line the
+/// analysis did not find (a preset's or the user's own).
+fn found<'a>(ctx: &'a Context, line: &[[f32; 2]]) -> Option<&'a crate::analysis::Ledge> {
     let same = |l: &crate::analysis::Ledge| {
         l.polyline.len() == line.len()
             && l.polyline
@@ -355,11 +362,13 @@ fn confidence(ctx: &Context, line: &[[f32; 2]]) -> f32 {
                 .zip(line)
                 .all(|(a, b)| (a[0] - b[0]).abs() <= 0.5 && (a[1] - b[1]).abs() <= 0.5)
     };
-    ctx.site
-        .ledges
-        .iter()
-        .find(|l| same(l))
-        .map_or(1.0, |l| l.confidence.clamp(0.0, 1.0))
+    ctx.site.ledges.iter().find(|l| same(l))
+}
+
+/// The analysis's confidence in a `found` ledge; 1 for a line it did not
+/// find.
+fn confidence(found: Option<&crate::analysis::Ledge>) -> f32 {
+    found.map_or(1.0, |l| l.confidence.clamp(0.0, 1.0))
 }
 
 /// How much rain a ledge (a polyline in photo pixels) catches: 1 minus the

@@ -325,6 +325,13 @@ pub(super) const CORE: &[ParamSpec] = &[
         0.0,
     ),
     p(
+        "rain.twins",
+        "",
+        "Let twin ledges (like windows in one row or one column) drain alike and share one sureness, each keeping its own drips (off: every ledge drains its own share)",
+        0.0,
+        0.0,
+    ),
+    p(
         "stain.color",
         "",
         "Colour of the rain dirt (sRGB), multiplied onto the wall",

@@ -98,6 +98,10 @@ pub struct RainParams {
     /// coverage before it, so its final darkness follows them in
     /// proportion instead of only its length (`effects::rain::fall`).
     pub after_film: bool,
+    /// Whether twin ledges (like windows in a row or a column) drain alike
+    /// and share one sureness, each keeping its own drips
+    /// (`effects::rain::twins`); off = every ledge its own.
+    pub twins: bool,
 }
 
 impl Default for RainParams {
@@ -139,6 +143,7 @@ impl Default for RainParams {
             sure_at: crate::effects::rain::fall::SURE_AT,
             uneven: 1.0,
             after_film: true,
+            twins: true,
         }
     }
 }

@@ -12,6 +12,7 @@ pub mod soot;
 pub mod sources;
 pub mod stain;
 pub mod texture;
+pub mod twins;
 pub mod wall;
 pub mod wander;
 

@@ -108,6 +108,20 @@ const CLOSEST: f32 = 0.3;
 /// (blind checks p31-p34: "the same drip under every edge")].
 const LEDGE_SPREAD: f32 = 0.8;
 
+/// A ledge's drain from the standard normal draw `z`: log-normal with
+/// spread [`LEDGE_SPREAD`] and mean 1.
+fn drain_of(z: f32) -> f32 {
+    (LEDGE_SPREAD * z - 0.5 * LEDGE_SPREAD * LEDGE_SPREAD).exp()
+}
+
+/// The share of a twin ledge's log drain that is its own, the rest its
+/// family's (`twins.rs`) [choice: 0.3, so two twins' drains differ by a
+/// log standard deviation of `0.8 * 0.3 * sqrt 2 = 0.34` (within 1.4x two
+/// times in three) instead of `0.8 * sqrt 2 = 1.13` (up to ~5x): blind
+/// review 30, "a comb of like drips under one window and none under its
+/// twin"; each twin still has its own drip points, ends and onsets].
+pub const TWIN_OWN: f32 = 0.3;
+
 /// The water ([`Warp::water`], times the ledge's drain and catch) whose
 /// stain shows at full strength [choice: 0.3, about the median drip's
 /// share of a level ledge; at 1 (a drip's fair share) the streaks of
@@ -147,6 +161,9 @@ pub struct Warp {
     /// How much of the rain reaching it this ledge drains through its
     /// release points ([`LEDGE_SPREAD`]); 1 when [`Release::uneven`] is 0.
     drain: f32,
+    /// The standard normal draw the drain is made from (0 when
+    /// [`Release::uneven`] is 0).
+    drain_z: f32,
     /// [`Release::uneven`].
     uneven: f32,
 }
@@ -236,17 +253,32 @@ impl Warp {
             .collect();
         // Drawn last: the drip points and onsets are those of before.
         let (z, _) = crate::random::box_muller(rng);
-        let drain = match r.uneven > 0.0 {
-            true => (LEDGE_SPREAD * z - 0.5 * LEDGE_SPREAD * LEDGE_SPREAD).exp(),
-            false => 1.0,
+        let (drain, drain_z) = match r.uneven > 0.0 {
+            true => (drain_of(z), z),
+            false => (1.0, 0.0),
         };
         Some(Warp {
             inverse,
             water,
             onset,
             drain,
+            drain_z,
             uneven: r.uneven.max(0.0),
         })
+    }
+
+    /// This warp's ledge in a family of twins (`twins.rs`) whose shared
+    /// standard normal draw is `family`: its drain is drawn from that
+    /// draw, times its own by a share [`TWIN_OWN`], with the log spread
+    /// and mean of a lone ledge's. Nothing changes when [`Release::uneven`]
+    /// is 0 (every drain 1).
+    pub fn in_family(mut self, family: f32) -> Warp {
+        if self.uneven > 0.0 {
+            let shared = (1.0 - TWIN_OWN * TWIN_OWN).sqrt();
+            self.drain_z = shared * family + TWIN_OWN * self.drain_z;
+            self.drain = drain_of(self.drain_z);
+        }
+        self
     }
 
     /// Where a droplet at uniform position `u` (0..len) leaves the source.
