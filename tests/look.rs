@@ -416,7 +416,10 @@ fn streak_width(metres_per_pixel: f32) -> f32 {
     p.rain.uneven = 0.0;
     let out = pipeline::run(&plain(metres_per_pixel), &p, &Progress::none()).unwrap();
     let mut widths = Vec::new();
-    for y in 60..120 {
+    // The same metres below the ledge at either scale, 0.2..0.8 m: the
+    // streak widens down its fall.
+    let rows = |m: f32| 40 + (m / metres_per_pixel) as u32;
+    for y in rows(0.2)..rows(0.8) {
         let row: Vec<f32> = (100..300)
             .map(|x| layers_named(&out, "rain 0").map(|l| cover(l, x, y)).sum())
             .collect();
@@ -639,7 +642,10 @@ fn thick_dirt_fills_the_grain_and_takes_the_walls_hue() {
     let (photo0, tinted) = brick_and_stone(0.0);
     for xs in [0..200, 200..400] {
         let (contrast, _, n) = under_thick_stains(&photo, &out, xs.clone());
-        assert!(n > 300, "{xs:?}: only {n} thickly stained pixels");
+        // The streaks spread wider by half their fall (`fall::SPREAD_BY`),
+        // so fewer pixels are thick: 1612 / 390 at b796688, 1134 / 233 now
+        // (the grain gains 0.897 / 0.908 then, 0.894 / 0.906 now).
+        assert!(n > 200, "{xs:?}: only {n} thickly stained pixels");
         assert!(
             contrast < 0.95,
             "{xs:?}: grain gain {contrast} under the deposit"

@@ -398,11 +398,18 @@ fn catch(ctx: &Context, line: &[[f32; 2]]) -> f32 {
 /// the one-ledge wall].
 const ONSET_M: f32 = 0.05;
 
-/// How far a streak has spread sideways at the end of its fall, metres:
-/// the standard deviation of the blur it has widened into there [choice:
-/// 0.15 m; `how-facades-age.md`: "narrow at the release point, wider and
-/// fainter over a fall of about 0.5 to 2 m"].
-const SPREAD_M: f32 = 0.15;
+/// How far a streak has spread sideways by half its fall and below,
+/// metres: the standard deviation the blur it has widened into there adds
+/// to the stain's edge blur ([`rain::fall::SPREAD_BY`]) [choice: 0.2 m;
+/// `how-facades-age.md`: "narrow at the release point, wider and fainter
+/// over a fall of about 0.5 to 2 m". 0.15 m until the twenty-third pass,
+/// reached only at the fall's end. On the one-ledge wall
+/// (`tests/widening.rs`, three seeds) the ink of the forty rainfalls is
+/// 126176 on main, 127983 at 0.15, 123752 at 0.2 (-1.9%), 119312 at 0.25
+/// (-5.4%: the widest washes' per-layer alphas round to 0 in 8 bits); the
+/// width over half a row's darkest at 80% of a streak's length 20.6
+/// columns on main, 37.3 at 0.15, 42.8 at 0.2, 44.2 at 0.25].
+const SPREAD_M: f32 = 0.2;
 
 /// Where a ledge's catch is read: this far above it, on its top, metres.
 const CATCH_ABOVE_M: f32 = 0.05;

@@ -368,9 +368,34 @@ fn seen<'a>(
     }
 }
 
+/// How far down its fall a streak has spread into the wide blur, as a
+/// share of the fall [choice: 0.5, with a smoothstep. `how-facades-age.md`:
+/// "narrow at the release point, wider and fainter over a fall of about
+/// 0.5 to 2 m": the run's water spreads sideways as it falls. Blended
+/// linearly over the whole fall, the stain was still mostly narrow where
+/// the Gaussian fade had taken most of it, so every visible edge closed to
+/// a point: the "icicle-tipped daggers under the sills" of blind review
+/// p44 and later. Measured on the one-ledge wall (`tests/widening.rs`),
+/// the width over half its row's darkest at 20 / 50 / 80% of a streak's
+/// length: 22.6 / 20.8 / 20.6 columns on main; 0.5 with the smoothstep
+/// and `SPREAD_M` 0.2, 23.1 / 37.2 / 42.8 (the top as narrow as before);
+/// linear to 0.5, 23.5 / 33.6 / 42.3; smoothstep to 0.35, 27.3 / 63.4 /
+/// 38.8 (the top wider, a darker band under the ledge); linear to 0.3,
+/// 33.9 / 36.4 / 28.8 with `SPREAD_M` 0.1].
+pub const SPREAD_BY: f32 = 0.5;
+
+/// How much of the wide blur a streak shows at `depth` (0..1) down its
+/// fall ([`SPREAD_BY`]).
+fn spread(depth: f32) -> f32 {
+    crate::random::smoothstep((depth / SPREAD_BY).clamp(0.0, 1.0))
+}
+
 /// Streaks widen and fade as they fall: `narrow` becomes `narrow` near
-/// its source, blending into `wide` (the same stain blurred more) at the
-/// fall length, times `fade` ([`Fall::before_film`]).
+/// its source, blending into `wide` (the same stain blurred more) by
+/// [`SPREAD_BY`] of the fall length, times `fade` ([`Fall::before_film`]).
+/// Both blurs keep a row's ink, so the blend does too: the fade alone sets
+/// how much a row holds, the blend how wide it lies (the peak falls as the
+/// ink over the width).
 pub fn widen(narrow: &mut RowMajor<f32>, wide: &RowMajor<f32>, fade: &RowMajor<f32>, fall: &Fall) {
     narrow
         .data_mut()
@@ -382,7 +407,7 @@ pub fn widen(narrow: &mut RowMajor<f32>, wide: &RowMajor<f32>, fade: &RowMajor<f
                 *n = 0.0;
                 return;
             }
-            *n = (*n + (*w - *n) * t) * f;
+            *n = (*n + (*w - *n) * spread(*t)) * f;
         });
 }
 
