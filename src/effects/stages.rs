@@ -404,7 +404,8 @@ const ONSET_M: f32 = 0.05;
 /// `how-facades-age.md`: "narrow at the release point, wider and fainter
 /// over a fall of about 0.5 to 2 m". 0.15 m until the twenty-third pass,
 /// reached only at the fall's end. On the one-ledge wall
-/// (`tests/widening.rs`, three seeds) the ink of the forty rainfalls is
+/// (`tests/streaks.rs`, `streaks_widen_downward_not_to_a_tip`, three
+/// seeds) the ink of the forty rainfalls is
 /// 126176 on main, 127983 at 0.15, 123752 at 0.2 (-1.9%), 119312 at 0.25
 /// (-5.4%: the widest washes' per-layer alphas round to 0 in 8 bits); the
 /// width over half a row's darkest at 80% of a streak's length 20.6

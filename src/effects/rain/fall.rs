@@ -375,7 +375,7 @@ fn seen<'a>(
 /// linearly over the whole fall, the stain was still mostly narrow where
 /// the Gaussian fade had taken most of it, so every visible edge closed to
 /// a point: the "icicle-tipped daggers under the sills" of blind review
-/// p44 and later. Measured on the one-ledge wall (`tests/widening.rs`),
+/// p44 and later. Measured on the one-ledge wall (`tests/streaks.rs`),
 /// the width over half its row's darkest at 20 / 50 / 80% of a streak's
 /// length: 22.6 / 20.8 / 20.6 columns on main; 0.5 with the smoothstep
 /// and `SPREAD_M` 0.2, 23.1 / 37.2 / 42.8 (the top as narrow as before);
