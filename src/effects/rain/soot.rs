@@ -53,8 +53,11 @@ const LINE_NOISE_M: f32 = 0.8;
 /// Over how far the band narrows to nothing at a ledge's ends, metres.
 pub const TAPER_M: f32 = 0.4;
 
-/// The soot's own noise stream (the release's is 1, the wander's 2).
-const SOOT: u16 = 3;
+/// The soot's own noise stream (the release's is 1, the wander's 2, the
+/// stains' texture's 3-5, the twins' 11; it was 3 until the twenty-third
+/// pass, the texture's stria stream too, so the soot line's wobble and the
+/// stria were drawn from one lattice).
+const SOOT: u16 = 6;
 
 /// How much soot each rainfall's interval lays, per grid pixel.
 #[derive(Debug, Clone)]
