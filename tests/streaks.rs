@@ -2,12 +2,11 @@
 //! 3): no straight vertical side where the ledge ends, streaks of unequal
 //! length, and tops that do not all start dark on the ledge's line.
 
-use grime::analysis::{Ledge, LedgeKind};
-use grime::photo::Photo;
-use grime::pipeline::{self, Scene, Site};
+mod common;
+
+use common::wall::{self, luma, stains};
+use grime::pipeline;
 use grime::preset::Preset;
-use grime::progress::Progress;
-use image::{DynamicImage, Rgb, RgbImage};
 
 /// Photo size; the wall is 8 m wide (0.01 m a pixel).
 const W: u32 = 800;
@@ -46,34 +45,9 @@ fn run_ledge(
     confidence: Option<f32>,
     change: impl Fn(&mut Preset),
 ) -> pipeline::Outcome {
-    let photo = RgbImage::from_pixel(W, H, Rgb(WALL));
     let (a, b) = (ENDS.0 as f32, ENDS.1 as f32);
     let line = vec![[a, ROW as f32], [b, ROW as f32]];
-    let ledges = confidence
-        .map(|confidence| Ledge {
-            kind: LedgeKind::Sill,
-            polyline: line.clone(),
-            confidence,
-        })
-        .into_iter()
-        .collect();
-    let scene = Scene::new(Photo::new(DynamicImage::ImageRgb8(photo)), None)
-        .unwrap()
-        .with_site(Site {
-            metres_per_pixel: 0.01,
-            ledges,
-            ..Site::assumed(W)
-        })
-        .unwrap();
-    let mut p = Preset::default();
-    p.moss.enabled = false;
-    p.dust.enabled = false;
-    p.rain.top_edge = false;
-    p.rain.layers = layers;
-    p.seed = seed;
-    p.rain.source_lines = vec![line];
-    change(&mut p);
-    pipeline::run(&scene, &p, &Progress::none()).unwrap()
+    wall::rain_on((W, H, WALL), vec![line], confidence, (layers, seed), change)
 }
 
 /// Per pixel below the ledge (rows ROW+1..ROW+BELOW, row-major), the ink of
@@ -198,20 +172,6 @@ fn a_band_of_streaks_has_soft_sides_unequal_lengths_and_a_broken_top() {
     assert!(side < 0.2, "side step {side:.3} of the band's mean");
     assert!(sd / mean > 0.15, "lengths {lengths:?}: CV {:.3}", sd / mean);
     assert!(mean_onset < 0.5, "first row / darkest {onsets:?}");
-}
-
-/// Luma, Rec. 601.
-fn luma(p: &[u8]) -> f32 {
-    0.299 * p[0] as f32 + 0.587 * p[1] as f32 + 0.114 * p[2] as f32
-}
-
-/// The composite of a run's rain stains, without its washed runs (which
-/// lighten where water runs often: more rain may wash an edge cleaner).
-fn stains(mut out: pipeline::Outcome) -> RgbImage {
-    for layer in &mut out.stack.layers {
-        layer.visible &= layer.name != "rain washed";
-    }
-    out.stack.composite().to_rgb8()
 }
 
 /// Forty rainfalls on the same paths leave streak cores the wall shows

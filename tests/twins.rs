@@ -2,12 +2,11 @@
 //! one window and none under its twin"): a row of like sills drains alike
 //! (`rain.twins`), each sill keeping its own drips.
 
-use grime::analysis::{Ledge, LedgeKind};
-use grime::photo::Photo;
-use grime::pipeline::{self, Scene, Site};
-use grime::preset::Preset;
-use grime::progress::Progress;
-use image::{DynamicImage, Rgb, RgbImage};
+mod common;
+
+use common::wall::{self, luma, stains};
+use grime::pipeline;
+use image::RgbImage;
 
 /// Photo size; the wall is 12 m wide (0.01 m a pixel).
 const W: u32 = 1200;
@@ -28,48 +27,13 @@ const WALL: [u8; 3] = [180, 170, 150];
 /// The wall after `layers` rainfalls with `seed` under the six sills,
 /// found by the analysis (sure), `rain.twins` at `twins`.
 fn run(layers: u32, seed: u64, twins: bool) -> pipeline::Outcome {
-    let photo = RgbImage::from_pixel(W, H, Rgb(WALL));
     let lines: Vec<Vec<[f32; 2]>> = SILLS
         .iter()
         .map(|&x| vec![[x as f32, ROW as f32], [(x + SILL_W) as f32, ROW as f32]])
         .collect();
-    let ledges = lines
-        .iter()
-        .map(|line| Ledge {
-            kind: LedgeKind::Sill,
-            polyline: line.clone(),
-            confidence: 1.0,
-        })
-        .collect();
-    let scene = Scene::new(Photo::new(DynamicImage::ImageRgb8(photo)), None)
-        .unwrap()
-        .with_site(Site {
-            metres_per_pixel: 0.01,
-            ledges,
-            ..Site::assumed(W)
-        })
-        .unwrap();
-    let mut p = Preset::default();
-    p.moss.enabled = false;
-    p.dust.enabled = false;
-    p.rain.top_edge = false;
-    p.rain.layers = layers;
-    p.seed = seed;
-    p.rain.source_lines = lines;
-    p.rain.twins = twins;
-    pipeline::run(&scene, &p, &Progress::none()).unwrap()
-}
-
-/// The composite of a run's rain stains, without its washed runs.
-fn stains(mut out: pipeline::Outcome) -> RgbImage {
-    for layer in &mut out.stack.layers {
-        layer.visible &= layer.name != "rain washed";
-    }
-    out.stack.composite().to_rgb8()
-}
-
-fn luma(p: &[u8]) -> f32 {
-    0.299 * p[0] as f32 + 0.587 * p[1] as f32 + 0.114 * p[2] as f32
+    wall::rain_on((W, H, WALL), lines, Some(1.0), (layers, seed), |p| {
+        p.rain.twins = twins
+    })
 }
 
 /// The ink under each sill: its box's summed darkening (1 - luma over the

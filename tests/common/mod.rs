@@ -1,6 +1,8 @@
 //! Helpers shared by the tests that run the real `grime` binary.
 #![allow(dead_code)]
 
+pub mod wall;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
