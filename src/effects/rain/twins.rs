@@ -129,7 +129,7 @@ fn families(extents: &[Option<Extent>]) -> Vec<usize> {
 
 /// The least sureness ([`super::fall::sure`]) of a ledge with twins
 /// [choice: 0.25, a confidence of 0.15 at `rain.sure_at` 0.6. A family
-/// shares one sureness ([`family_sure`]); when it was the members' mean,
+/// shares one sureness ([`Twins::sure`]); when it was the members' mean,
 /// with no floor the bottom edge of a road sign (img_2308, confidence
 /// 0.05) took its family's 0.8 and shed a streak down the post, and with
 /// the least, one such edge would fade a whole row of sure sills; 182 of the 1344
@@ -206,43 +206,30 @@ impl Twins {
         }
     }
 
-    /// Per ledge, how sure its family is, from each ledge's own
-    /// `sure` ([`super::fall::sure`]).
+    /// Per ledge, how sure its family is: its least sure member's `sure`
+    /// ([`super::fall::sure`]) [choice, by blind checks and measuring on
+    /// the 100 LMF train photos (BENCHMARKS.md, twenty-third pass, twins25
+    /// and the lead's p48/p49): the mean took the twins' ink's CV across a
+    /// family from 0.414 to 0.322 with +1% total darkening and +5.4% under
+    /// doubtful ledges, and lost blind check p48 (main better 4, twins 1: heavier streaks on a
+    /// person and on signs the analysis called wall); the least takes the CV
+    /// to 0.337 with -5% darkening (p49: twins better 4, main 3); the max to
+    /// 0.326 but raised the ink under doubtful ledges 22% (film24's false
+    /// ledges: streaks off a roof eave taken for a window head, IMG_0692)].
     pub fn sure(&self, sure: &[f32]) -> Vec<f32> {
-        let mut members: Vec<Vec<f32>> = vec![Vec::new(); sure.len()];
+        let family = |i: usize| self.family.get(i).copied().unwrap_or(i).min(sure.len() - 1);
+        let mut least = vec![f32::INFINITY; sure.len()];
         for (i, &s) in sure.iter().enumerate() {
-            members[self.family.get(i).copied().unwrap_or(i).min(sure.len() - 1)].push(s);
+            let f = family(i);
+            least[f] = least[f].min(s);
         }
-        sure.iter()
-            .enumerate()
-            .map(|(i, &s)| {
-                let f = self.family.get(i).copied().unwrap_or(i).min(sure.len() - 1);
-                family_sure(&members[f]).unwrap_or(s)
-            })
-            .collect()
+        (0..sure.len()).map(|i| least[family(i)]).collect()
     }
 
     /// How many ledges have a twin.
     pub fn twinned(&self) -> usize {
         self.draw.iter().filter(|d| d.is_some()).count()
     }
-}
-
-/// A family's sureness from its members' (`None` when it has none):
-/// the least of them [choice, by blind checks and measuring on the 100 LMF
-/// train photos (BENCHMARKS.md, twenty-third pass, twins25 and the lead's
-/// p48/p49): the mean took the twins' ink's CV across a family from 0.414
-/// to 0.322 with +1% total darkening and +5.4% under doubtful ledges, and
-/// lost blind check p48 (main better 4, twins 1: heavier streaks on a
-/// person and on signs the analysis called wall); the least takes the CV
-/// to 0.337 with -5% darkening (p49: twins better 4, main 3); the max to
-/// 0.326 but raised the ink under doubtful ledges 22% (film24's false
-/// ledges: streaks off a roof eave taken for a window head, IMG_0692)].
-fn family_sure(members: &[f32]) -> Option<f32> {
-    if members.is_empty() {
-        return None;
-    }
-    Some(members.iter().copied().fold(f32::INFINITY, f32::min))
 }
 
 #[cfg(test)]
