@@ -98,6 +98,10 @@ pub struct RainParams {
     /// coverage before it, so its final darkness follows them in
     /// proportion instead of only its length (`effects::rain::fall`).
     pub after_film: bool,
+    /// Whether a sure ledge catches the water running down to it from a
+    /// source above, so the streaks from above stop on it instead of
+    /// running on below it (`effects::rain::breaks`).
+    pub breaks: bool,
 }
 
 impl Default for RainParams {
@@ -139,6 +143,7 @@ impl Default for RainParams {
             sure_at: crate::effects::rain::fall::SURE_AT,
             uneven: 1.0,
             after_film: true,
+            breaks: true,
         }
     }
 }
