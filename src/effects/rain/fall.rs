@@ -40,6 +40,12 @@
 //! doubtful ledge, of the strength of the streak that runs there, so a
 //! streak's final darkness is proportional to its strength and its
 //! ledge's sureness.
+//!
+//! [choice, `rain.breaks`:] a line the photo shows below a source (a
+//! course's shadow the analysis did not keep, [`super::breaks::caught`])
+//! catches most of the water running down to it: each source's fade is
+//! also times the share that passes the lines below it, so its streaks
+//! stop softly there with no new source below.
 
 use rayon::prelude::*;
 
