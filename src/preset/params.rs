@@ -332,6 +332,13 @@ pub(super) const CORE: &[ParamSpec] = &[
         0.0,
     ),
     p(
+        "rain.breaks",
+        "",
+        "Let a sure ledge catch the water running down to it from a source above, so the streaks from above stop on its top and only its own drip points streak below it (off: the droplets run on across it)",
+        0.0,
+        0.0,
+    ),
+    p(
         "stain.color",
         "",
         "Colour of the rain dirt (sRGB), multiplied onto the wall",

@@ -102,6 +102,10 @@ pub struct RainParams {
     /// and share one sureness, each keeping its own drips
     /// (`effects::rain::twins`); off = every ledge its own.
     pub twins: bool,
+    /// Whether a sure ledge catches the water running down to it from a
+    /// source above, so the streaks from above stop on it instead of
+    /// running on below it (`effects::rain::breaks`).
+    pub breaks: bool,
 }
 
 impl Default for RainParams {
@@ -144,6 +148,7 @@ impl Default for RainParams {
             uneven: 1.0,
             after_film: true,
             twins: true,
+            breaks: true,
         }
     }
 }
