@@ -152,8 +152,11 @@ fn catchers(
             sure: rain::fall::sure(confidence(found(ctx, photo)), r.sure_at),
         })
         .collect();
-    let course = ctx.grid_px(rain::breaks::COURSE_M);
-    rain::breaks::cut(ctx.region, ctx.luma, &ledges, r.top_edge, course)
+    let (course, run) = (
+        ctx.grid_px(rain::breaks::COURSE_M),
+        ctx.grid_px(r.break_run_m),
+    );
+    rain::breaks::cut(ctx.region, ctx.luma, &ledges, r.top_edge, course, run)
 }
 
 /// Where ledges release their water, in grid pixels.
@@ -255,7 +258,10 @@ impl<'a> Stainer<'a> {
             ctx.grid_px(r.fall_m),
             3.0 * release.width,
             ctx.grid_px(ONSET_M),
-            caught.as_ref(),
+            caught.as_ref().map(|sum| rain::fall::Caught {
+                sum,
+                run: ctx.grid_px(r.break_run_m),
+            }),
         );
         let blur = preset.stain.softness + ctx.grid_px(preset.stain.blur_m);
         let wander =

@@ -339,6 +339,13 @@ pub(super) const CORE: &[ParamSpec] = &[
         0.0,
     ),
     p(
+        "rain.break_run_m",
+        "",
+        "With rain.breaks, the shortest run of water between two breaks: a ledge catches the water from above only where the nearest source above it is at least this far up, so no short blot of a run is left between two close courses (0: every sure ledge with a source above catches)",
+        0.0,
+        5.0,
+    ),
+    p(
         "stain.color",
         "",
         "Colour of the rain dirt (sRGB), multiplied onto the wall",

@@ -106,6 +106,12 @@ pub struct RainParams {
     /// source above, so the streaks from above stop on it instead of
     /// running on below it (`effects::rain::breaks`).
     pub breaks: bool,
+    /// The shortest run of water between two breaks, metres: a ledge
+    /// catches the water from above only where the nearest source above
+    /// it lies at least this far up, so no short piece of run is left
+    /// between two breaks (`effects::rain::breaks::RUN_M`; 0 = every
+    /// sure ledge with a source above catches).
+    pub break_run_m: f32,
 }
 
 impl Default for RainParams {
@@ -149,6 +155,7 @@ impl Default for RainParams {
             after_film: true,
             twins: true,
             breaks: true,
+            break_run_m: crate::effects::rain::breaks::RUN_M,
         }
     }
 }

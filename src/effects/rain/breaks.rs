@@ -95,19 +95,45 @@ pub const COURSE_M: f32 = 0.45;
 /// span's mean smooths out].
 const STEP: f32 = 20.0;
 
+/// The shortest run of water between two breaks, metres: a ledge catches
+/// the water from above only where the nearest source above it lies at
+/// least this far up [choice: 0.9 m. Cut shorter, the piece of run between
+/// the two (the upper source's own streak, stopped at the lower one's
+/// strip) is a blob a few times as long as it is wide that starts and
+/// stops in mid-wall: blind check p50 saw "round dark blotches on the
+/// brick not tied to anything" on IMG_6586, whose brick bands lie 0.5 to
+/// 0.9 m apart. Not cut, the piece joins the run below, as the droplets
+/// did without breaks; a streak 0.9 m long, 5 to 9 times as long as it is
+/// wide (0.1 to 0.2 m), reads as a streak (`how-facades-age.md`: "short
+/// streaks that restart at each storey", a storey being about 3 m). At 1 m
+/// a course exactly 1 m under a cornice (`tests/breaks.rs`) fell on the
+/// threshold].
+pub const RUN_M: f32 = 0.9;
+
+/// The least sureness of a source above a ledge that counts as the start
+/// of a run for [`RUN_M`] [choice: 0.5; a fainter source's streaks show
+/// at under half their strength (`fall::sure`), so its short piece is
+/// faint, and a doubtful line close above a course (a joint, a shutter's
+/// edge) should not keep the course from catching the water from higher
+/// up].
+const RUN_FROM_SURE: f32 = 0.5;
+
 /// The region the droplets run on: `region` without a strip just above
 /// each sure ledge of `ledges` (grid coordinates, `luma` 0..255 the wall's
-/// on the grid), in the columns where a source lies above it (another
-/// ledge's line, or the region's top edge when `top_edge`); `None` when
-/// nothing is cut. The strip runs from the row above the course's top
-/// ([`course_top`], at most `course` grid pixels above the line) or, when
-/// none is seen, [`GAP`] rows above the line, down to the row above it.
+/// on the grid), in the columns where the nearest source above it
+/// (another ledge's line at least [`RUN_FROM_SURE`] sure, or the region's
+/// top edge when `top_edge`) lies at least `run` grid pixels up
+/// ([`RUN_M`]); `None` when nothing is cut. The strip runs from the row
+/// above the course's top ([`course_top`], at most `course` grid pixels
+/// above the line) or, when none is seen, [`GAP`] rows above the line,
+/// down to the row above it.
 pub fn cut(
     region: &RowMajor<bool>,
     luma: &RowMajor<f32>,
     ledges: &[Catcher],
     top_edge: bool,
     course: f32,
+    run: f32,
 ) -> Option<RowMajor<bool>> {
     let (width, height) = (region.width(), region.height());
     // Per column, the rows of the lines crossing it.
@@ -115,8 +141,10 @@ pub fn cut(
     let mut spans = Vec::with_capacity(ledges.len());
     for ledge in ledges {
         let span = crossings(ledge.line, width);
-        for &(x, row) in &span {
-            rows[x].push(row);
+        if ledge.sure >= RUN_FROM_SURE {
+            for &(x, row) in &span {
+                rows[x].push(row);
+            }
         }
         spans.push(span);
     }
@@ -132,9 +160,13 @@ pub fn cut(
                 true => (0..height).find(|&y| region.get(x, y)).map(|y| y as f32),
                 false => None,
             };
-            let above =
-                top.is_some_and(|t| t < row - reach) || rows[x].iter().any(|&r| r < row - reach);
-            if !above {
+            // The nearest source above, past the strip.
+            let nearest = top
+                .into_iter()
+                .chain(rows[x].iter().copied())
+                .filter(|&r| r < row - reach)
+                .reduce(f32::max);
+            if !nearest.is_some_and(|r| row - r >= run) {
                 continue;
             }
             // The droplets start on row floor(row) (`Source::point`); the
@@ -351,7 +383,7 @@ mod tests {
                 sure: 1.0,
             },
         ];
-        let cut = cut(&region, &luma, &ledges, false, 8.0).unwrap();
+        let cut = cut(&region, &luma, &ledges, false, 8.0, 0.0).unwrap();
         // The strip, rows 17..19, within the lower ledge's span only.
         for y in 0..40 {
             assert_eq!(!cut.get(4, y), (17..19).contains(&y), "row {y}");
@@ -370,9 +402,9 @@ mod tests {
                 ..ledges[1]
             },
         ];
-        assert!(super::cut(&region, &luma, &doubtful, false, 8.0).is_none());
+        assert!(super::cut(&region, &luma, &doubtful, false, 8.0, 0.0).is_none());
         // With the top edge a source, the upper ledge is cut too.
-        let both = super::cut(&region, &luma, &ledges, true, 8.0).unwrap();
+        let both = super::cut(&region, &luma, &ledges, true, 8.0, 0.0).unwrap();
         assert!(!both.get(4, 2) && !both.get(4, 17));
     }
 
@@ -393,7 +425,7 @@ mod tests {
         let ledges = [&upper, &lower].map(|line| Catcher { line, sure: 1.0 });
         let span = crossings(&lower, 10);
         assert_eq!(course_top(&luma, &span, 8.0), Some(5));
-        let cut = cut(&region, &luma, &ledges, false, 8.0).unwrap();
+        let cut = cut(&region, &luma, &ledges, false, 8.0, 0.0).unwrap();
         for y in 0..40 {
             assert_eq!(!cut.get(4, y), (14..19).contains(&y), "row {y}");
         }
@@ -417,7 +449,7 @@ mod tests {
             vec![(2.0, 50.0), (62.0, 50.0)],
         );
         let ledges = [&cornice, &course].map(|line| Catcher { line, sure: 1.0 });
-        let cut = cut(&region, &luma, &ledges, false, 8.0).unwrap();
+        let cut = cut(&region, &luma, &ledges, false, 8.0, 0.0).unwrap();
         let p = RainParams {
             layers: 3,
             droplets: 200,
@@ -461,6 +493,45 @@ mod tests {
             below_cut < 1e-3 * below_run,
             "{below_run} -> {below_cut} below the course"
         );
+    }
+
+    /// Two sure courses 0.4 m apart under a cornice 1 m above the upper
+    /// one, 40 grid pixels a metre: with the shortest run 0.9 m the lower
+    /// course catches nothing (the upper one's runs join the run below it
+    /// instead of stopping as a piece 0.4 m long) and the upper one still
+    /// catches the cornice's water; with 0 (breaks25) both catch.
+    #[test]
+    fn a_course_close_below_another_lets_its_runs_join_the_run_below() {
+        let region = RowMajor::filled(10, 120, true);
+        let luma = RowMajor::filled(10, 120, 128.0);
+        let lines = [
+            vec![(0.0, 10.0), (10.0, 10.0)],
+            vec![(0.0, 50.0), (10.0, 50.0)],
+            vec![(0.0, 66.0), (10.0, 66.0)],
+        ];
+        let ledges = lines.each_ref().map(|line| Catcher { line, sure: 1.0 });
+        let strip =
+            |cut: &RowMajor<bool>, line: usize| (line - 3..line - 1).all(|y| !cut.get(4, y));
+        let short = cut(&region, &luma, &ledges, false, 8.0, 0.0).unwrap();
+        assert!(strip(&short, 50) && strip(&short, 66), "both cut");
+        let run = cut(&region, &luma, &ledges, false, 8.0, RUN_M * 40.0).unwrap();
+        assert!(
+            strip(&run, 50),
+            "the upper course catches the cornice's water"
+        );
+        assert!(
+            (0..120).all(|y| run.get(4, y) || (47..49).contains(&y)),
+            "the lower one none"
+        );
+        // A doubtful line between them (a joint) is no start of a run.
+        let joint = vec![(0.0, 40.0), (10.0, 40.0)];
+        let mut with_joint = ledges.to_vec();
+        with_joint.push(Catcher {
+            line: &joint,
+            sure: 0.3,
+        });
+        let joint_cut = cut(&region, &luma, &with_joint, false, 8.0, RUN_M * 40.0).unwrap();
+        assert!(strip(&joint_cut, 50), "a joint 0.25 m above");
     }
 
     /// A lone course shadow on a plain wall catches; the same line among

@@ -184,10 +184,12 @@ impl Fall {
 /// optionally, a top-edge row per column; each ledge's fade dies out past
 /// its ends over `reach` columns (water runs off a ledge's ends), and its
 /// streaks begin `onset` pixels or so below it. `fall` <= 0 gives 1
-/// everywhere below a source. With `caught` ([`super::breaks::caught`]),
-/// a source's fade is also times the share of its water that passes the
-/// lines the photo shows below it, counted from [`CAUGHT_FROM`] onsets
-/// below it (its own shadow line is not a break).
+/// everywhere below a source. With `caught` ([`Caught`]), a source's
+/// fade is also times the share of its water that passes the lines the
+/// photo shows below it, counted from [`CAUGHT_FROM`] onsets below it
+/// (its own shadow line is not a break) or from `caught.run` below it,
+/// whichever is further (no short piece of run between the source and a
+/// line, [`super::breaks::RUN_M`]).
 #[allow(clippy::too_many_arguments)]
 pub fn fade(
     width: usize,
@@ -197,15 +199,17 @@ pub fn fade(
     fall: f32,
     reach: f32,
     onset: f32,
-    caught: Option<&RowMajor<f32>>,
+    caught: Option<Caught>,
 ) -> Fall {
     let caught_at = |x: usize, row: f32| match caught {
         Some(c) if height > 0 => {
-            let below = (row + CAUGHT_FROM * onset.max(1.0)).floor().max(0.0) as usize;
-            c.get(x, below.min(height - 1))
+            let from = (CAUGHT_FROM * onset.max(1.0)).max(c.run);
+            let below = (row + from).floor().max(0.0) as usize;
+            c.sum.get(x, below.min(height - 1))
         }
         _ => 0.0,
     };
+    let caught = caught.map(|c| c.sum);
     // Per column, the sources crossing it or reaching it.
     let mut columns: Vec<Vec<Top>> = vec![Vec::new(); width];
     for ledge in ledges.iter().filter(|l| !l.line.is_empty()) {
@@ -344,6 +348,17 @@ const DOUBTS: u32 = 6;
 /// catch its water ([`fade`]'s `caught`) [choice: 2, about 0.1 m: the
 /// shadow a ledge casts on the wall right under it is its own line].
 const CAUGHT_FROM: f32 = 2.0;
+
+/// The water caught by the lines the photo shows, for [`fade`].
+#[derive(Debug, Clone, Copy)]
+pub struct Caught<'a> {
+    /// [`super::breaks::caught`]'s running sum down each column.
+    pub sum: &'a RowMajor<f32>,
+    /// How far below a source, grid pixels, the lines begin to catch its
+    /// water at the least ([`super::breaks::RUN_M`]; 0 = from
+    /// [`CAUGHT_FROM`] onsets).
+    pub run: f32,
+}
 
 /// A pixel [`seen`] looks at: its row's centre, and the running sum of
 /// the water caught above it ([`super::breaks::caught`]).
@@ -632,7 +647,20 @@ mod tests {
             std::f32::consts::LN_2 * ((y as f32 - 19.0).clamp(0.0, 4.0) / 4.0)
         });
         let plain = fade(10, 80, &ledges, None, 200.0, 0.0, 1.0, None).fade;
-        let broken = fade(10, 80, &ledges, None, 200.0, 0.0, 1.0, Some(&caught)).fade;
+        let broken = fade(
+            10,
+            80,
+            &ledges,
+            None,
+            200.0,
+            0.0,
+            1.0,
+            Some(Caught {
+                sum: &caught,
+                run: 0.0,
+            }),
+        )
+        .fade;
         assert_eq!(broken.get(4, 18), plain.get(4, 18), "above the line");
         let ratio = broken.get(4, 30) / plain.get(4, 30);
         assert!((ratio - 0.5).abs() < 1e-3, "past it: {ratio}");
@@ -643,5 +671,13 @@ mod tests {
             plain.get(4, 60),
             "under the lower source"
         );
+        // With the shortest run 20 rows, the line 15 rows below the upper
+        // source leaves no short piece: its water runs on.
+        let run = Caught {
+            sum: &caught,
+            run: 20.0,
+        };
+        let joined = fade(10, 80, &ledges, None, 200.0, 0.0, 1.0, Some(run)).fade;
+        assert_eq!(joined.get(4, 30), plain.get(4, 30), "a line within the run");
     }
 }
