@@ -52,21 +52,30 @@ pub(super) fn rain(
 ) -> Result<Produced> {
     let grid = ctx.grid;
     let r = &preset.rain;
+    let lines = grid_lines(ctx, r);
+    // The region the droplets run on, cut above the sure ledges.
+    let ran_on = r.breaks.then(|| catchers(ctx, r, &lines)).flatten();
     let input = RainInput {
         luma: ctx.luma,
-        region: ctx.region,
-        source_lines: grid_lines(ctx, r),
+        region: ran_on.as_ref().unwrap_or(ctx.region),
+        source_lines: lines,
         catch: r.source_lines.iter().map(|l| catch(ctx, l)).collect(),
         release: release(ctx, r),
         washed: preset.stain.washed_opacity > 0.0,
     };
-    let (out, kept) = rain::simulate_keeping(
+    let (mut out, mut kept) = rain::simulate_keeping(
         &input,
         r,
         preset.seed,
         &progress.span(0.0, 0.87),
         &products.keep_rain_at,
     )?;
+    if let Some(cut) = &ran_on {
+        let maps = [&mut out.water, &mut out.dirt].into_iter();
+        let kept_maps = kept.iter_mut().flat_map(|k| [&mut k.water, &mut k.dirt]);
+        maps.chain(kept_maps)
+            .for_each(|m| rain::breaks::fill(m, ctx.region, cut));
+    }
     let (out, kept) = (Arc::new(out), kept.into_iter().map(Arc::new).collect());
     let mut stainer = Stainer::new(ctx, preset);
 
@@ -126,6 +135,28 @@ fn grid_lines(ctx: &Context, r: &crate::preset::RainParams) -> Vec<Vec<(f32, f32
         .iter()
         .map(|line| line.iter().map(|p| ctx.grid.to_grid(p[0], p[1])).collect())
         .collect()
+}
+
+/// The region the droplets run on when sure ledges catch the water from
+/// above ([`rain::breaks::cut`]); `None` when nothing is cut.
+fn catchers(
+    ctx: &Context,
+    r: &crate::preset::RainParams,
+    lines: &[Vec<(f32, f32)>],
+) -> Option<crate::field::RowMajor<bool>> {
+    let ledges: Vec<_> = lines
+        .iter()
+        .zip(&r.source_lines)
+        .map(|(line, photo)| rain::breaks::Catcher {
+            line,
+            sure: rain::fall::sure(confidence(found(ctx, photo)), r.sure_at),
+        })
+        .collect();
+    let (course, run) = (
+        ctx.grid_px(rain::breaks::COURSE_M),
+        ctx.grid_px(r.break_run_m),
+    );
+    rain::breaks::cut(ctx.region, ctx.luma, &ledges, r.top_edge, course, run)
 }
 
 /// Where ledges release their water, in grid pixels.
@@ -216,6 +247,9 @@ impl<'a> Stainer<'a> {
                 sure,
             })
             .collect();
+        let caught = r
+            .breaks
+            .then(|| rain::breaks::caught(ctx.luma, ctx.region, ctx.grid_px(1.0)));
         let fall = rain::fall::fade(
             grid.width,
             grid.height,
@@ -224,6 +258,10 @@ impl<'a> Stainer<'a> {
             ctx.grid_px(r.fall_m),
             3.0 * release.width,
             ctx.grid_px(ONSET_M),
+            caught.as_ref().map(|sum| rain::fall::Caught {
+                sum,
+                run: ctx.grid_px(r.break_run_m),
+            }),
         );
         let blur = preset.stain.softness + ctx.grid_px(preset.stain.blur_m);
         let wander =

@@ -332,6 +332,20 @@ pub(super) const CORE: &[ParamSpec] = &[
         0.0,
     ),
     p(
+        "rain.breaks",
+        "",
+        "Let a sure ledge catch the water running down to it from a source above, so the streaks from above stop on its top and only its own drip points streak below it (off: the droplets run on across it)",
+        0.0,
+        0.0,
+    ),
+    p(
+        "rain.break_run_m",
+        "",
+        "With rain.breaks, the shortest run of water between two breaks: a ledge catches the water from above only where the nearest source above it is at least this far up, so no short blot of a run is left between two close courses (0: every sure ledge with a source above catches)",
+        0.0,
+        5.0,
+    ),
+    p(
         "stain.color",
         "",
         "Colour of the rain dirt (sRGB), multiplied onto the wall",

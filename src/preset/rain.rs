@@ -102,6 +102,16 @@ pub struct RainParams {
     /// and share one sureness, each keeping its own drips
     /// (`effects::rain::twins`); off = every ledge its own.
     pub twins: bool,
+    /// Whether a sure ledge catches the water running down to it from a
+    /// source above, so the streaks from above stop on it instead of
+    /// running on below it (`effects::rain::breaks`).
+    pub breaks: bool,
+    /// The shortest run of water between two breaks, metres: a ledge
+    /// catches the water from above only where the nearest source above
+    /// it lies at least this far up, so no short piece of run is left
+    /// between two breaks (`effects::rain::breaks::RUN_M`; 0 = every
+    /// sure ledge with a source above catches).
+    pub break_run_m: f32,
 }
 
 impl Default for RainParams {
@@ -144,6 +154,8 @@ impl Default for RainParams {
             uneven: 1.0,
             after_film: true,
             twins: true,
+            breaks: true,
+            break_run_m: crate::effects::rain::breaks::RUN_M,
         }
     }
 }

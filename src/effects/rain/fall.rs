@@ -40,6 +40,12 @@
 //! doubtful ledge, of the strength of the streak that runs there, so a
 //! streak's final darkness is proportional to its strength and its
 //! ledge's sureness.
+//!
+//! [choice, `rain.breaks`:] a line the photo shows below a source (a
+//! course's shadow the analysis did not keep, [`super::breaks::caught`])
+//! catches most of the water running down to it: each source's fade is
+//! also times the share that passes the lines below it, so its streaks
+//! stop softly there with no new source below.
 
 use rayon::prelude::*;
 
@@ -109,6 +115,10 @@ struct Top {
     ramp: f32,
     /// How strong the streak is, 0..1 ([`Warp::strength`]).
     strength: f32,
+    /// The water caught by lines the photo shows down to where this
+    /// source's own streak is under way ([`super::breaks::caught`]'s
+    /// running sum there; 0 without it).
+    caught: f32,
 }
 
 impl Top {
@@ -120,6 +130,12 @@ impl Top {
         } else {
             1.0
         }
+    }
+
+    /// The share of this source's water that passes the lines the photo
+    /// shows above a pixel whose running sum of caught water is `caught`.
+    fn passes(&self, caught: f32) -> f32 {
+        (-(caught - self.caught).max(0.0)).exp()
     }
 
     /// The fade `d` pixels below the source at `strength` (the streak's
@@ -168,7 +184,13 @@ impl Fall {
 /// optionally, a top-edge row per column; each ledge's fade dies out past
 /// its ends over `reach` columns (water runs off a ledge's ends), and its
 /// streaks begin `onset` pixels or so below it. `fall` <= 0 gives 1
-/// everywhere below a source.
+/// everywhere below a source. With `caught` ([`Caught`]), a source's
+/// fade is also times the share of its water that passes the lines the
+/// photo shows below it, counted from [`CAUGHT_FROM`] onsets below it
+/// (its own shadow line is not a break) or from `caught.run` below it,
+/// whichever is further (no short piece of run between the source and a
+/// line, [`super::breaks::RUN_M`]).
+#[allow(clippy::too_many_arguments)]
 pub fn fade(
     width: usize,
     height: usize,
@@ -177,7 +199,17 @@ pub fn fade(
     fall: f32,
     reach: f32,
     onset: f32,
+    caught: Option<Caught>,
 ) -> Fall {
+    let caught_at = |x: usize, row: f32| match caught {
+        Some(c) if height > 0 => {
+            let from = (CAUGHT_FROM * onset.max(1.0)).max(c.run);
+            let below = (row + from).floor().max(0.0) as usize;
+            c.sum.get(x, below.min(height - 1))
+        }
+        _ => 0.0,
+    };
+    let caught = caught.map(|c| c.sum);
     // Per column, the sources crossing it or reaching it.
     let mut columns: Vec<Vec<Top>> = vec![Vec::new(); width];
     for ledge in ledges.iter().filter(|l| !l.line.is_empty()) {
@@ -187,22 +219,24 @@ pub fn fade(
         let first = (x_lo - SIDE_REACHES * reach).floor().max(0.0) as usize;
         let last =
             ((x_hi + SIDE_REACHES * reach).ceil().max(0.0) as usize).min(width.saturating_sub(1));
-        for (x, column) in columns.iter_mut().enumerate().take(last + 1).skip(first) {
-            let x = x as f32 + 0.5;
+        for (column_x, column) in columns.iter_mut().enumerate().take(last + 1).skip(first) {
+            let x = column_x as f32 + 0.5;
             let past = (x_lo - x).max(x - x_hi).max(0.0);
             let side = match (past > 0.0, reach > 0.0) {
                 (false, _) => 1.0,
                 (true, true) => (-0.5 * (past / reach).powi(2)).exp(),
                 (true, false) => 0.0,
             };
+            let row = row_at(&line, x);
             let mut top = Top {
-                row: row_at(&line, x),
+                row,
                 fall,
                 side,
                 sure: ledge.sure.clamp(0.0, 1.0),
                 start: 0.0,
                 ramp: 0.0,
                 strength: 1.0,
+                caught: caught_at(column_x, row),
             };
             if let Some(warp) = ledge.warp {
                 let u = arc_at(ledge.line, x);
@@ -216,7 +250,7 @@ pub fn fade(
         }
     }
     if let Some(edge) = top_edge {
-        for (column, row) in columns.iter_mut().zip(edge) {
+        for (x, (column, row)) in columns.iter_mut().zip(edge).enumerate() {
             if let Some(y) = row {
                 column.push(Top {
                     row: *y as f32,
@@ -226,6 +260,7 @@ pub fn fade(
                     start: 0.0,
                     ramp: 0.0,
                     strength: 1.0,
+                    caught: caught_at(x, *y as f32),
                 });
             }
         }
@@ -244,11 +279,15 @@ pub fn fade(
         .zip(shape.data_mut().par_chunks_mut(w))
         .zip(gain.data_mut().par_chunks_mut(w))
         .enumerate()
-        .for_each(|(y, (((fades, depths), shapes), gains))| {
-            let y = y as f32 + 0.5;
+        .for_each(|(row, (((fades, depths), shapes), gains))| {
+            let y = row as f32 + 0.5;
             for (x, sources) in columns.iter().enumerate() {
                 let above = sources.partition_point(|s| s.row <= y);
-                let v = seen(sources[..above].iter().rev(), y, 1.0, Seen::NONE, DOUBTS);
+                let at = Pixel {
+                    y,
+                    caught: caught.map_or(0.0, |c| c.get(x, row)),
+                };
+                let v = seen(sources[..above].iter().rev(), at, 1.0, Seen::NONE, DOUBTS);
                 (fades[x], depths[x], shapes[x], gains[x]) = (v.fade, v.depth, v.shape, v.gain);
             }
         });
@@ -305,6 +344,30 @@ const FULL_SHARE: f32 = 0.5;
 /// ones above them count as sure.
 const DOUBTS: u32 = 6;
 
+/// How many onsets below a source the lines the photo shows begin to
+/// catch its water ([`fade`]'s `caught`) [choice: 2, about 0.1 m: the
+/// shadow a ledge casts on the wall right under it is its own line].
+const CAUGHT_FROM: f32 = 2.0;
+
+/// The water caught by the lines the photo shows, for [`fade`].
+#[derive(Debug, Clone, Copy)]
+pub struct Caught<'a> {
+    /// [`super::breaks::caught`]'s running sum down each column.
+    pub sum: &'a RowMajor<f32>,
+    /// How far below a source, grid pixels, the lines begin to catch its
+    /// water at the least ([`super::breaks::RUN_M`]; 0 = from
+    /// [`CAUGHT_FROM`] onsets).
+    pub run: f32,
+}
+
+/// A pixel [`seen`] looks at: its row's centre, and the running sum of
+/// the water caught above it ([`super::breaks::caught`]).
+#[derive(Debug, Clone, Copy)]
+struct Pixel {
+    y: f32,
+    caught: f32,
+}
+
 /// The fade and depth at row `y` under `sources` (nearest first) whose
 /// water reaches it with share `through`, the best seen so far `best`:
 /// the nearest source takes the water; past its ends (side < 1) and above
@@ -322,7 +385,7 @@ const DOUBTS: u32 = 6;
 /// shape of a sure one's and its sureness as gain.
 fn seen<'a>(
     mut sources: impl Iterator<Item = &'a Top> + Clone,
-    y: f32,
+    at: Pixel,
     through: f32,
     best: Seen,
     doubts: u32,
@@ -333,9 +396,11 @@ fn seen<'a>(
     if through <= 0.0 {
         return best;
     }
-    let d = y - s.row;
+    let d = at.y - s.row;
+    let passes = s.passes(at.caught);
     let (value, depth) = s.at(d, s.strength);
     let (full, _) = s.at(d, 1.0);
+    let (value, full) = (value * passes, full * passes);
     let mut there = best;
     if through * value > best.fade {
         (there.fade, there.depth) = (through * value, depth);
@@ -345,7 +410,7 @@ fn seen<'a>(
     }
     let with = seen(
         sources.clone(),
-        y,
+        at,
         through * (1.0 - s.side * s.onset(d)),
         there,
         doubts,
@@ -353,7 +418,7 @@ fn seen<'a>(
     if s.sure >= 1.0 || doubts == 0 {
         return with;
     }
-    let without = seen(sources, y, through, best, doubts - 1);
+    let without = seen(sources, at, through, best, doubts - 1);
     let q = s.sure;
     let shape = with.shape.max(without.shape);
     let counts = |v: f32| match shape > 0.0 {
@@ -472,7 +537,7 @@ mod tests {
         let fade_with = |sure: f32| {
             let mut ledges: Vec<_> = lines.iter().map(|l| uniform(l)).collect();
             ledges[1].sure = sure;
-            fade(10, 60, &ledges, None, 30.0, 0.0, 0.0).fade
+            fade(10, 60, &ledges, None, 30.0, 0.0, 0.0, None).fade
         };
         let (sure, doubtful) = (fade_with(1.0), fade_with(super::sure(0.2, SURE_AT)));
         // Just above and just below the joint: a step with a sure ledge
@@ -497,9 +562,9 @@ mod tests {
     fn a_lone_doubtful_ledge_keeps_its_shape_and_takes_its_sureness_as_gain() {
         let line = vec![(0.0, 5.0), (10.0, 5.0)];
         let mut ledge = uniform(&line);
-        let sure = fade(10, 40, &[ledge], None, 20.0, 0.0, 0.0);
+        let sure = fade(10, 40, &[ledge], None, 20.0, 0.0, 0.0, None);
         ledge.sure = 0.2;
-        let doubtful = fade(10, 40, &[ledge], None, 20.0, 0.0, 0.0);
+        let doubtful = fade(10, 40, &[ledge], None, 20.0, 0.0, 0.0, None);
         assert_eq!(doubtful.shape.data(), sure.fade.data());
         for (i, s) in doubtful.shape.data().iter().enumerate() {
             if *s > 0.0 {
@@ -524,7 +589,7 @@ mod tests {
         ];
         let mut ledges: Vec<_> = lines.iter().map(|l| uniform(l)).collect();
         ledges[1].sure = 0.2;
-        let f = fade(10, 80, &ledges, None, 30.0, 0.0, 0.0);
+        let f = fade(10, 80, &ledges, None, 30.0, 0.0, 0.0, None);
         let (above, below) = (f.gain.get(4, 19), f.gain.get(4, 21));
         assert_eq!(above, 1.0);
         assert!(
@@ -538,7 +603,7 @@ mod tests {
     #[test]
     fn nothing_above_the_source_and_a_tenth_at_the_fall() {
         let line = vec![(2.0, 10.0), (8.0, 10.0)];
-        let f = fade(12, 60, &[uniform(&line)], None, 20.0, 1.0, 0.0).fade;
+        let f = fade(12, 60, &[uniform(&line)], None, 20.0, 1.0, 0.0, None).fade;
         assert_eq!(f.get(5, 5), 0.0, "above the ledge");
         assert!(f.get(5, 10) > 0.99, "just below it");
         assert!((f.get(5, 30) - 0.1).abs() < 0.02, "{}", f.get(5, 30));
@@ -553,7 +618,7 @@ mod tests {
             vec![(0.0, 40.0), (10.0, 40.0)],
         ];
         let ledges: Vec<_> = lines.iter().map(|l| uniform(l)).collect();
-        let f = fade(10, 60, &ledges, None, 10.0, 0.0, 0.0).fade;
+        let f = fade(10, 60, &ledges, None, 10.0, 0.0, 0.0, None).fade;
         assert!(f.get(4, 35) < 0.01);
         assert!(f.get(4, 41) > 0.9, "{}", f.get(4, 41));
     }
@@ -561,9 +626,58 @@ mod tests {
     #[test]
     fn the_top_edge_is_a_source_per_column() {
         let edge = vec![Some(3), None];
-        let f = fade(2, 10, &[], Some(&edge), 0.0, 0.0, 0.0).fade;
+        let f = fade(2, 10, &[], Some(&edge), 0.0, 0.0, 0.0, None).fade;
         assert_eq!(f.get(0, 2), 0.0);
         assert_eq!(f.get(0, 5), 1.0);
         assert_eq!(f.get(1, 5), 0.0);
+    }
+
+    /// A line the photo shows below a source (a course the analysis did
+    /// not keep): the streak's fade falls past it to the share that
+    /// passes, softly, and a source below the line is not dimmed by it.
+    #[test]
+    fn a_line_in_the_photo_catches_the_water_from_above() {
+        let lines = [
+            vec![(0.0, 5.0), (10.0, 5.0)],
+            vec![(0.0, 50.0), (10.0, 50.0)],
+        ];
+        let ledges: Vec<_> = lines.iter().map(|l| uniform(l)).collect();
+        // Half the water caught over rows 20..24 (ln 2 spread over them).
+        let caught = RowMajor::from_fn(10, 80, |_, y| {
+            std::f32::consts::LN_2 * ((y as f32 - 19.0).clamp(0.0, 4.0) / 4.0)
+        });
+        let plain = fade(10, 80, &ledges, None, 200.0, 0.0, 1.0, None).fade;
+        let broken = fade(
+            10,
+            80,
+            &ledges,
+            None,
+            200.0,
+            0.0,
+            1.0,
+            Some(Caught {
+                sum: &caught,
+                run: 0.0,
+            }),
+        )
+        .fade;
+        assert_eq!(broken.get(4, 18), plain.get(4, 18), "above the line");
+        let ratio = broken.get(4, 30) / plain.get(4, 30);
+        assert!((ratio - 0.5).abs() < 1e-3, "past it: {ratio}");
+        let mid = broken.get(4, 21) / plain.get(4, 21);
+        assert!(mid > 0.55 && mid < 0.95, "a soft stop: {mid}");
+        assert_eq!(
+            broken.get(4, 60),
+            plain.get(4, 60),
+            "under the lower source"
+        );
+        // With the shortest run 20 rows, the line 15 rows below the upper
+        // source leaves no short piece: its water runs on.
+        let run = Caught {
+            sum: &caught,
+            run: 20.0,
+        };
+        let joined = fade(10, 80, &ledges, None, 200.0, 0.0, 1.0, Some(run)).fade;
+        assert_eq!(joined.get(4, 30), plain.get(4, 30), "a line within the run");
     }
 }

@@ -4,6 +4,7 @@
 //! rainfall, the dirt it deposited, plus the final wall water and dirt that
 //! moss grows from. [`stain`] turns deposits into layer coverage.
 
+pub mod breaks;
 pub mod deposit;
 pub mod droplets;
 pub mod fall;
