@@ -16,6 +16,7 @@ use super::plane::{Sideways, UPRIGHT};
 use super::wall::{Class, flood};
 
 mod climbs;
+mod crest;
 use climbs::{like_above, off_the_climbs};
 
 /// Ground: connected to the bottom edge, below 45% of the height, smooth,
@@ -85,7 +86,19 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
             x += 1;
         }
     }
+    let before = g.clone();
     flat_ground(f, steps, side, class, light, &at, &mut g);
+    // The road past the flat ground's cut, up to its crest.
+    let road = crest::Road {
+        f,
+        top,
+        cut: (h as f32 * FLAT_GROUND_FROM) as usize,
+        basic: &basic,
+        at: &at,
+        steps,
+        side,
+    };
+    crest::past_the_cut(&road, &before, &mut g);
     let grey = (FLAT_GROUND, FLAT_GROUND_SATURATION, light);
     super::lawn::below(f, side, class, &lawn, grey, &mut g);
     let (mut at_cap, mut cols) = (0, 0);
@@ -346,7 +359,7 @@ pub(super) mod tests {
     use crate::photo::Photo;
 
     /// The classes of `img`, analysed at its own width.
-    fn classes_of(img: image::RgbImage) -> Vec<Class> {
+    pub(super) fn classes_of(img: image::RgbImage) -> Vec<Class> {
         let w = img.width();
         classify(&Features::new(
             &Photo::new(image::DynamicImage::ImageRgb8(img)),
