@@ -67,6 +67,7 @@ fn main() -> anyhow::Result<()> {
                     analysis::Class::Vegetation => [0, 128, 0],
                     analysis::Class::Glass => [0, 0, 128],
                     analysis::Class::Ground => [128, 128, 128],
+                    analysis::Class::Thing => [128, 0, 128],
                 })
             });
             colours.save(dir.join(format!("{name}-classes.png")))?;

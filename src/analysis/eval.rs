@@ -35,11 +35,12 @@ const NEGATIVE_NAMES: [&str; 7] = ["", "", "sky", "other", "vegetation", "ground
 /// The classes a missed wall pixel can have, in the order
 /// [`Metrics::report`] prints them, with the name it gives each (the
 /// matte's soft edge for [`Class::Wall`]).
-const MISS_NAMES: [(Class, &str); 5] = [
+const MISS_NAMES: [(Class, &str); 6] = [
     (Class::Sky, "sky"),
     (Class::Vegetation, "vegetation"),
     (Class::Glass, "glass"),
     (Class::Ground, "ground"),
+    (Class::Thing, "thing"),
     (Class::Wall, "edge"),
 ];
 
@@ -108,7 +109,7 @@ pub struct Metrics {
     /// Wall pixels not called wall, by the class their analysis pixel
     /// has (index = [`Class`] as usize; at [`Class::Wall`]: the matte's
     /// soft edge fell under half there).
-    pub miss_by: [u64; 5],
+    pub miss_by: [u64; 6],
     /// Labelled ledges.
     pub bands: usize,
     /// Labelled ledges found.
@@ -623,7 +624,7 @@ mod tests {
         let mut m = Metrics::default();
         m.add(Some(&a), &t);
         assert_eq!(m.walls, 10000);
-        assert_eq!(m.miss_by, [0, 0, 0, 2500, 2500]);
+        assert_eq!(m.miss_by, [0, 0, 0, 2500, 2500, 0]);
         let r = m.report();
         assert!(
             r.contains("  miss glass       0.250 (2500/10000 wall px)"),
