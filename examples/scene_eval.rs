@@ -67,6 +67,7 @@ fn main() -> anyhow::Result<()> {
                     analysis::Class::Vegetation => [0, 128, 0],
                     analysis::Class::Glass => [0, 0, 128],
                     analysis::Class::Ground => [128, 128, 128],
+                    analysis::Class::Thing => [128, 0, 128],
                 })
             });
             colours.save(dir.join(format!("{name}-classes.png")))?;
@@ -80,7 +81,7 @@ fn main() -> anyhow::Result<()> {
             let mut one = Metrics::default();
             one.add(a.as_ref(), truth);
             println!(
-                "{name}: iou {:.2} spill {:.2} sky {:.2} ({} sky px) wall as ground {} px, ground as wall {} px, car as wall {} px, ledge on car {} px, ledges found {}/{}",
+                "{name}: iou {:.2} spill {:.2} sky {:.2} ({} sky px) wall as ground {} px, ground as wall {} px, car as wall {} px, various as wall {}/{} px, ledge on car {} px, ledges found {}/{}",
                 one.mean_iou(),
                 one.spill(),
                 one.sky_spill(),
@@ -88,6 +89,8 @@ fn main() -> anyhow::Result<()> {
                 one.miss_by[analysis::Class::Ground as usize],
                 one.spill_by[eval::GROUND as usize].1,
                 one.spill_by[CAR as usize].1,
+                one.various_wall,
+                one.various,
                 one.ledge_on[CAR as usize],
                 one.bands_found,
                 one.bands
@@ -141,7 +144,8 @@ fn load(path: &Path) -> anyhow::Result<Photo> {
 }
 
 /// LabelMeFacade training split: colour labels; building = wall; window,
-/// door, various ignored; sky, vegetation, road, pavement, car negative.
+/// door, various ignored (various counted on its own); sky, vegetation,
+/// road, pavement, car negative.
 fn labelmefacade(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
     let list = std::fs::read_to_string(dir.join("train.txt"))?;
     let mut out = Vec::new();
@@ -155,6 +159,7 @@ fn labelmefacade(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
         let lab = grime::io::load_photo(&dir.join("labels").join(format!("{stem}.png")))?;
         let lab = lab.image().to_rgb8();
         let windows = lab.pixels().map(|p| p.0 == [0, 0, 128]).collect();
+        let various = lab.pixels().map(|p| p.0 == [0, 0, 0]).collect();
         let labels = lab
             .pixels()
             .map(|p| match p.0 {
@@ -172,6 +177,7 @@ fn labelmefacade(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
             height: photo.height(),
             labels: Some(labels),
             windows: Some(windows),
+            various: Some(various),
             ..Truth::default()
         };
         out.push((stem, photo, truth));
@@ -226,6 +232,7 @@ fn cmp(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
             ledge_like,
             storey_px: eval::storey_from_windows(&windows, h as f32),
             windows: Some(index.iter().map(|&l| l == 3).collect()),
+            various: None,
         };
         let stem = img
             .file_stem()

@@ -274,7 +274,7 @@ pub fn relabel(f: &Features, side: &Sideways, class: &mut [Class]) {
 }
 
 /// CIELAB (D65) of an sRGB colour in 0..1.
-fn lab(rgb: [f32; 3]) -> [f32; 3] {
+pub(super) fn lab(rgb: [f32; 3]) -> [f32; 3] {
     let lin = rgb.map(|v| {
         if v <= 0.04045 {
             v / 12.92

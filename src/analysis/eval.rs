@@ -35,11 +35,12 @@ const NEGATIVE_NAMES: [&str; 7] = ["", "", "sky", "other", "vegetation", "ground
 /// The classes a missed wall pixel can have, in the order
 /// [`Metrics::report`] prints them, with the name it gives each (the
 /// matte's soft edge for [`Class::Wall`]).
-const MISS_NAMES: [(Class, &str); 5] = [
+const MISS_NAMES: [(Class, &str); 6] = [
     (Class::Sky, "sky"),
     (Class::Vegetation, "vegetation"),
     (Class::Glass, "glass"),
     (Class::Ground, "ground"),
+    (Class::Thing, "thing"),
     (Class::Wall, "edge"),
 ];
 
@@ -76,6 +77,11 @@ pub struct Truth {
     /// Per photo pixel: labelled window (glass and frame), where the data
     /// labels windows; for the glass measure, not the wall's IoU.
     pub windows: Option<Vec<bool>>,
+    /// Per photo pixel: labelled "various" (LabelMeFacade's people,
+    /// signs, umbrellas, street furniture: what stands before the wall),
+    /// where the data labels it; ignored by the IoU, counted on its own
+    /// ([`Metrics::various_spill`]).
+    pub various: Option<Vec<bool>>,
 }
 
 /// Sums over a set of photos.
@@ -103,7 +109,7 @@ pub struct Metrics {
     /// Wall pixels not called wall, by the class their analysis pixel
     /// has (index = [`Class`] as usize; at [`Class::Wall`]: the matte's
     /// soft edge fell under half there).
-    pub miss_by: [u64; 5],
+    pub miss_by: [u64; 6],
     /// Labelled ledges.
     pub bands: usize,
     /// Labelled ledges found.
@@ -130,6 +136,10 @@ pub struct Metrics {
     pub window_glass: u64,
     /// Pixels called glass (in photos that label windows).
     pub glass_px: u64,
+    /// Labelled "various" pixels ([`Truth::various`]).
+    pub various: u64,
+    /// Labelled "various" pixels called wall by the matte.
+    pub various_wall: u64,
     /// Length of the detected ledges (not roof lines), in photo pixel
     /// columns, by the label under each column's drip line (index =
     /// label, [`IGNORE`] to [`CAR`]): water started on a car, a tree or
@@ -204,6 +214,14 @@ impl Metrics {
         }
         if let (Some(windows), Some(a)) = (&t.windows, a) {
             self.add_glass(a, windows, t.width as usize);
+        }
+        if let Some(various) = &t.various {
+            self.various += various.iter().filter(|&&v| v).count() as u64;
+            if let Some(a) = a {
+                self.various_wall += (various.iter().enumerate())
+                    .filter(|&(i, &v)| v && is_wall(a, i))
+                    .count() as u64;
+            }
         }
         let tol = 0.015 * t.height as f32;
         let ledges = a.map(|a| a.ledges.as_slice()).unwrap_or(&[]);
@@ -331,6 +349,12 @@ impl Metrics {
         self.sky_wall as f64 / self.sky.max(1) as f64
     }
 
+    /// Share of labelled "various" pixels called wall (a diagnostic: what
+    /// stands before the wall and takes its grime; not in the IoU).
+    pub fn various_spill(&self) -> f64 {
+        self.various_wall as f64 / self.various.max(1) as f64
+    }
+
     /// Share of labelled ledges found.
     pub fn recall(&self) -> f64 {
         self.bands_found as f64 / self.bands.max(1) as f64
@@ -368,6 +392,15 @@ impl Metrics {
                         wall as f64 / n as f64
                     );
                 }
+            }
+            if self.various > 0 {
+                let _ = writeln!(
+                    s,
+                    "  spill various    {:.3} ({}/{} px; not in the IoU)",
+                    self.various_spill(),
+                    self.various_wall,
+                    self.various
+                );
             }
             // The other half of the IoU: wall called something else.
             for (class, name) in MISS_NAMES {
@@ -591,13 +624,40 @@ mod tests {
         let mut m = Metrics::default();
         m.add(Some(&a), &t);
         assert_eq!(m.walls, 10000);
-        assert_eq!(m.miss_by, [0, 0, 0, 2500, 2500]);
+        assert_eq!(m.miss_by, [0, 0, 0, 2500, 2500, 0]);
         let r = m.report();
         assert!(
             r.contains("  miss glass       0.250 (2500/10000 wall px)"),
             "{r}"
         );
         assert!(r.contains("  miss sky         0.000"), "{r}");
+    }
+
+    #[test]
+    fn various_pixels_called_wall_are_counted_apart_from_the_iou() {
+        // All wall by the labels except a "various" block (a person, a
+        // sign) over the left quarter; the matte takes the left half.
+        let mut a = analysis(Vec::new());
+        a.matte = image::GrayImage::from_fn(100, 100, |x, _| image::Luma([255 * (x < 50) as u8]));
+        a.classes = vec![Class::Wall; 100 * 100];
+        let various: Vec<bool> = (0..100 * 100).map(|i| i % 100 < 25).collect();
+        let labels = various
+            .iter()
+            .map(|&v| if v { IGNORE } else { WALL_LABEL })
+            .collect();
+        let t = Truth {
+            width: 100,
+            height: 100,
+            labels: Some(labels),
+            various: Some(various),
+            ..Truth::default()
+        };
+        let mut m = Metrics::default();
+        m.add(Some(&a), &t);
+        assert_eq!((m.various, m.various_wall), (2500, 2500));
+        assert!((m.mean_iou() - 25.0 / 75.0).abs() < 1e-9);
+        let r = m.report();
+        assert!(r.contains("  spill various    1.000 (2500/2500 px"), "{r}");
     }
 
     #[test]

@@ -41,6 +41,7 @@ mod scale;
 pub mod shelter;
 mod sky_windows;
 pub mod synthetic;
+mod things;
 mod twigs;
 mod vehicles;
 mod wall;
@@ -214,6 +215,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
     let mut classes = wall::classify(&f);
     vehicles::islands(&f, &mut classes);
     vehicles::short_pieces(&f, &mut classes);
+    things::mark(&f, &mut classes);
     let t_classes = ms(t1);
     let t3 = Instant::now();
     // Ledges and the matte need only the classes: side by side.

@@ -15,6 +15,7 @@ fn class_colour(c: Class) -> [f32; 3] {
         Class::Vegetation => [40.0, 200.0, 40.0],
         Class::Glass => [160.0, 40.0, 200.0],
         Class::Ground => [230.0, 140.0, 30.0],
+        Class::Thing => [255.0, 40.0, 160.0],
     }
 }
 
@@ -46,7 +47,13 @@ pub fn draw(a: &Analysis, photo: &Photo) -> RgbImage {
         }
     }
     let px = (w.max(h) / 500).max(1);
-    for c in [Class::Sky, Class::Vegetation, Class::Glass, Class::Ground] {
+    for c in [
+        Class::Sky,
+        Class::Vegetation,
+        Class::Glass,
+        Class::Ground,
+        Class::Thing,
+    ] {
         if let Some((cx, cy)) = centroid(a, c) {
             text(&mut img, cx, cy, c.label(), px, Rgb([0, 0, 0]));
         }

@@ -155,6 +155,7 @@ pub fn scene(seed: u64, w: u32, h: u32) -> Scene {
             ledges,
             ledge_like: Vec::new(),
             storey_px: Some(storey),
+            various: None,
         },
     }
 }

@@ -26,6 +26,9 @@ pub enum Class {
     Glass,
     /// Road, pavement.
     Ground,
+    /// What stands before the wall and is not the building: umbrellas,
+    /// awnings, sign boards ([`super::things`]).
+    Thing,
 }
 
 impl Class {
@@ -37,6 +40,7 @@ impl Class {
             Class::Vegetation => "vegetation",
             Class::Glass => "glass",
             Class::Ground => "ground",
+            Class::Thing => "thing",
         }
     }
 }
