@@ -5,12 +5,13 @@
 //! running on below it (`how-facades-age.md`: ledges collect the water
 //! and release it at a few points; `effects::rain::breaks`).
 
-use grime::analysis::{Ledge, LedgeKind};
-use grime::photo::Photo;
-use grime::pipeline::{self, Scene, Site};
+mod common;
+
+use common::wall::rain_on_photo;
+use grime::analysis::LedgeKind;
+use grime::pipeline;
 use grime::preset::Preset;
-use grime::progress::Progress;
-use image::{DynamicImage, Rgb, RgbImage};
+use image::{Rgb, RgbImage};
 
 /// Photo size; the wall is 8 m wide (0.01 m a pixel).
 const W: u32 = 800;
@@ -46,30 +47,14 @@ fn run(layers: u32, found: bool, change: impl Fn(&mut Preset)) -> pipeline::Outc
     if found {
         lines.push(line(COURSE));
     }
-    let ledges = lines
-        .iter()
-        .map(|l| Ledge {
-            kind: LedgeKind::Cornice,
-            polyline: l.clone(),
-            confidence: 1.0,
-        })
-        .collect();
-    let scene = Scene::new(Photo::new(DynamicImage::ImageRgb8(photo)), None)
-        .unwrap()
-        .with_site(Site {
-            metres_per_pixel: 0.01,
-            ledges,
-            ..Site::assumed(W)
-        })
-        .unwrap();
-    let mut p = Preset::default();
-    p.moss.enabled = false;
-    p.dust.enabled = false;
-    p.rain.top_edge = false;
-    p.rain.layers = layers;
-    p.rain.source_lines = lines;
-    change(&mut p);
-    pipeline::run(&scene, &p, &Progress::none()).unwrap()
+    let found = Some((LedgeKind::Cornice, 1.0));
+    rain_on_photo(
+        photo,
+        lines,
+        found,
+        (layers, Preset::default().seed),
+        change,
+    )
 }
 
 /// The mean ink (the rainfalls' alphas summed) over rows `rows` within the

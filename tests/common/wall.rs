@@ -1,5 +1,5 @@
 //! A plain wall aged by the rain alone, for the tests of streaks' shapes
-//! (`streaks.rs`, `twins.rs`).
+//! (`streaks.rs`, `twins.rs`, `breaks.rs`).
 
 use grime::analysis::{Ledge, LedgeKind};
 use grime::photo::Photo;
@@ -21,12 +21,29 @@ pub fn rain_on(
     change: impl Fn(&mut Preset),
 ) -> pipeline::Outcome {
     let photo = RgbImage::from_pixel(w, h, Rgb(wall));
-    let ledges = confidence
-        .map(|confidence| {
+    let found = confidence.map(|c| (LedgeKind::Sill, c));
+    rain_on_photo(photo, lines, found, (layers, seed), change)
+}
+
+/// `photo` (0.01 m a pixel) after `layers` rainfalls with `seed` (moss,
+/// dust and the top edge off), fed by the preset's source `lines`; each
+/// line found by the analysis as a ledge of the `found` kind and
+/// confidence (`None`: lines of the preset's own); the preset then
+/// changed by `change`.
+pub fn rain_on_photo(
+    photo: RgbImage,
+    lines: Vec<Vec<[f32; 2]>>,
+    found: Option<(LedgeKind, f32)>,
+    (layers, seed): (u32, u64),
+    change: impl Fn(&mut Preset),
+) -> pipeline::Outcome {
+    let w = photo.width();
+    let ledges = found
+        .map(|(kind, confidence)| {
             lines
                 .iter()
                 .map(|line| Ledge {
-                    kind: LedgeKind::Sill,
+                    kind,
                     polyline: line.clone(),
                     confidence,
                 })
