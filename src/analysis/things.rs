@@ -23,7 +23,9 @@ use rayon::prelude::*;
 use super::appearance::lab;
 use super::features::{Features, box_mean};
 use super::glass::components;
+use super::ground::median3;
 use super::wall::{Class, flood};
+use crate::effects::percentile::{Rank, percentile};
 
 /// The wall's sure pixels: wall within this many pixels all round.
 const SURE: usize = 2;
@@ -121,13 +123,10 @@ pub(super) fn mark(f: &Features, class: &mut [Class]) {
     if sample.len() < MIN_SAMPLE {
         return;
     }
-    let sample_lab: Vec<[f32; 3]> = sample.iter().map(|&i| lab_at(i)).collect();
-    let median = |v: Vec<f32>| -> f32 {
-        let mut v = v;
-        let k = v.len() / 2;
-        *v.select_nth_unstable_by(k, f32::total_cmp).1
-    };
-    let med: [f32; 3] = std::array::from_fn(|c| median(sample_lab.iter().map(|l| l[c]).collect()));
+    let mut sample_lab: Vec<[f32; 3]> = sample.iter().map(|&i| lab_at(i)).collect();
+    // The upper middle of `v` (the sample is never empty).
+    let median = |v: Vec<f32>| percentile(v, 0.5, Rank::Nearest).unwrap_or(0.0);
+    let med = median3(&mut sample_lab);
     let dist = |d: [f32; 3]| {
         ((d[0] - med[0]).powi(2) + (d[1] - med[1]).powi(2) + (d[2] - med[2]).powi(2)).sqrt()
     };
