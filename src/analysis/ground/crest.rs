@@ -12,7 +12,7 @@ use super::super::perspective::oblique;
 use super::super::plane::Sideways;
 use super::super::wall::flood;
 use super::climbs::{like_above, off_the_climbs};
-use super::{GROUND_COLOUR, GROUND_STEP, OBLIQUE, lies_flat, median3};
+use super::{GROUND_COLOUR, GROUND_STEP, NARROW, OBLIQUE, lies_flat, median3};
 
 /// What the photo's ground is read from (see [`super::ground`]).
 pub(super) struct Road<'a> {
@@ -33,7 +33,8 @@ pub(super) struct Road<'a> {
 
 /// Grows the ground the flat test added to `g` (what `g` has that
 /// `before` had not) up past its cut: each run of at least a
-/// [`MIN_RUN`]th of the width where it reaches the `cut` row grows upward,
+/// [`NARROW`]th of the width (the narrowest bottom-row stretch that
+/// grows) where it reaches the `cut` row grows upward,
 /// as a bottom-row stretch does in [`super::ground`], with its own colour
 /// model (the median of the run's flat ground in the [`MODEL_ROWS`]th of
 /// the height under the cut), through smooth unsaturated wall within
@@ -59,7 +60,7 @@ pub(super) fn past_the_cut(road: &Road, before: &[bool], g: &mut [bool]) {
         while x < w && added[row + x] {
             x += 1;
         }
-        if x - start >= (w / MIN_RUN).max(1) {
+        if x - start >= (w / NARROW).max(1) {
             grow(road, start..x, &added, g);
         }
         if x == start {
@@ -125,11 +126,6 @@ fn with_rim(part: &[bool], w: usize, h: usize) -> Vec<bool> {
 /// over the part alone, 0.73 with the rim; boston p1010753's road past
 /// the cut 0.59).
 const RIM: usize = 2;
-
-/// A run of columns where the flat ground reaches its cut grows on when
-/// it is at least this share (one over it) of the width wide (as
-/// [`super::NARROW`], the narrowest bottom-row stretch that grows).
-const MIN_RUN: usize = 16;
 
 /// The colour model is read over this share (one over it) of the height
 /// under the cut (as [`super::climbs::like_above`] looks a twelfth up).
