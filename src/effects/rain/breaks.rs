@@ -30,6 +30,7 @@
 //! [`1 - EDGE_CATCH`] of itself, over [`SOFT_M`] (a break without a new
 //! source).
 
+use crate::effects::habitat::row_at;
 use crate::field::RowMajor;
 
 /// Rows left out of the wall above a ledge's line [choice: 2, so a droplet
@@ -148,20 +149,23 @@ pub fn cut(
         }
         spans.push(span);
     }
+    // Per column, the region's top edge when it is a source.
+    let tops: Vec<Option<f32>> = (0..width)
+        .map(|x| match top_edge {
+            true => (0..height).find(|&y| region.get(x, y)).map(|y| y as f32),
+            false => None,
+        })
+        .collect();
     let mut out: Option<RowMajor<bool>> = None;
     for (ledge, span) in ledges.iter().zip(&spans) {
         if ledge.sure < 1.0 {
             continue;
         }
         let strip = course_top(luma, span, course).unwrap_or(0).max(GAP);
+        let reach = strip as f32 + 1.0;
         for &(x, row) in span {
-            let reach = strip as f32 + 1.0;
-            let top = match top_edge {
-                true => (0..height).find(|&y| region.get(x, y)).map(|y| y as f32),
-                false => None,
-            };
             // The nearest source above, past the strip.
-            let nearest = top
+            let nearest = tops[x]
                 .into_iter()
                 .chain(rows[x].iter().copied())
                 .filter(|&r| r < row - reach)
@@ -338,26 +342,15 @@ pub fn edge_catch(luma: &RowMajor<f32>, region: &RowMajor<bool>, px_per_m: f32) 
 /// The columns a polyline spans (pixel centres within its ends) and its
 /// row at each.
 fn crossings(line: &[(f32, f32)], width: usize) -> Vec<(usize, f32)> {
-    let mut pts: Vec<(f32, f32)> = line.to_vec();
-    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut pts: Vec<[f32; 2]> = line.iter().map(|&(x, y)| [x, y]).collect();
+    pts.sort_by(|a, b| a[0].total_cmp(&b[0]));
     let (Some(first), Some(last)) = (pts.first(), pts.last()) else {
         return Vec::new();
     };
-    let lo = (first.0 - 0.5).ceil().max(0.0) as usize;
-    let hi = ((last.0 - 0.5).floor().max(-1.0) + 1.0) as usize;
+    let lo = (first[0] - 0.5).ceil().max(0.0) as usize;
+    let hi = ((last[0] - 0.5).floor().max(-1.0) + 1.0) as usize;
     (lo..hi.min(width))
-        .filter_map(|x| {
-            let c = x as f32 + 0.5;
-            pts.windows(2)
-                .find(|p| p[0].0 <= c && c <= p[1].0)
-                .map(|p| {
-                    let t = match p[1].0 > p[0].0 {
-                        true => (c - p[0].0) / (p[1].0 - p[0].0),
-                        false => 0.0,
-                    };
-                    (x, p[0].1 + (p[1].1 - p[0].1) * t)
-                })
-        })
+        .filter_map(|x| row_at(&pts, x as f32 + 0.5).map(|row| (x, row)))
         .collect()
 }
 
