@@ -151,8 +151,21 @@ fn crown_gaps(
 /// morphology", 1982): the max then the min over a (2r+1)^2 box, each
 /// separable; dark lines narrower than 2r+1 vanish.
 pub(super) fn close(src: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
-    let wider = extreme(src, w, h, r, f32::max);
-    extreme(&wider, w, h, r, f32::min)
+    let wider = extreme(src, w, h, r, max);
+    extreme(&wider, w, h, r, min)
+}
+
+/// The larger of `a` and `b`: `f32::max` for the values filtered here
+/// (no NaN, no negative zero), as a comparison the compiler vectorises
+/// (`f32::max` was picked one lane at a time: 2.5% of the 12 MP bench's
+/// samples, `perf`).
+fn max(a: f32, b: f32) -> f32 {
+    if a > b { a } else { b }
+}
+
+/// The smaller of `a` and `b`, as [`max`].
+fn min(a: f32, b: f32) -> f32 {
+    if a < b { a } else { b }
 }
 
 /// `pick` (max or min) over a (2r+1)^2 box clipped at the borders, rows

@@ -51,11 +51,13 @@ impl Features {
         let mut px = vec![[0f32; 3]; w * h];
         px.par_chunks_mut(w).enumerate().for_each(|(oy, row)| {
             let (y0, y1) = span(oy, h, ph);
-            // The band's rows summed first (one long add the compiler
-            // vectorises), then each output pixel's columns.
-            let mut sums = vec![0u32; pw * ch];
-            for y in y0..y1 {
-                let line = &raw[y * pw * ch..(y + 1) * pw * ch];
+            // The band's rows summed first (the first row widened, then
+            // one long add the compiler vectorises per row), then each
+            // output pixel's columns.
+            let line = |y: usize| &raw[y * pw * ch..(y + 1) * pw * ch];
+            let mut sums: Vec<u32> = line(y0).iter().map(|&v| v as u32).collect();
+            for y in y0 + 1..y1 {
+                let line = line(y);
                 sums.iter_mut().zip(line).for_each(|(s, &v)| *s += v as u32);
             }
             for (o, &(x0, x1)) in row.iter_mut().zip(&xspans) {
@@ -132,7 +134,8 @@ fn span(o: usize, n: usize, len: usize) -> (usize, usize) {
 /// Mean over a (2r+1)^2 box, clipped at the borders: separable sliding
 /// sums in f64 (exact for these values: a flat stretch after a bright one
 /// sums to exactly 0, as the classes' tests of "any sky nearby" need). Rows
-/// go four at a time (four independent sums keep the core busy), then each
+/// go [`ROWS`] at a time (independent sums keep the core busy; each box's
+/// size is divided once per column, not once per pixel), then each
 /// band of [`BAND`] rows slides one accumulator the width of the grid down
 /// (a loop the compiler vectorises). Blocks and bands are fixed, so the
 /// sums are the same at any thread count.
@@ -140,21 +143,24 @@ pub fn box_mean(src: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
     if w == 0 || h == 0 {
         return Vec::new();
     }
+    // 1 / the box's width at each column (clipped at the borders).
+    let inv: Vec<f64> = (0..w)
+        .map(|x| 1.0 / ((x + r + 1).min(w) - x.saturating_sub(r)) as f64)
+        .collect();
     let mut across = vec![0f32; w * h];
     across
-        .par_chunks_mut(4 * w)
-        .zip(src.par_chunks(4 * w))
+        .par_chunks_mut(ROWS * w)
+        .zip(src.par_chunks(ROWS * w))
         .for_each(|(out, rows)| {
             let k = rows.len() / w;
-            let mut sum = [0f64; 4];
+            let mut sum = [0f64; ROWS];
             for (j, s) in sum.iter_mut().enumerate().take(k) {
                 *s = rows[j * w..j * w + r.min(w)]
                     .iter()
                     .map(|&v| v as f64)
                     .sum();
             }
-            for x in 0..w {
-                let inv = 1.0 / ((x + r + 1).min(w) - x.saturating_sub(r)) as f64;
+            for (x, &inv) in inv.iter().enumerate() {
                 for (j, s) in sum.iter_mut().enumerate().take(k) {
                     if x + r < w {
                         *s += rows[j * w + x + r] as f64;
@@ -202,6 +208,11 @@ pub fn box_mean(src: &[f32], w: usize, h: usize, r: usize) -> Vec<f32> {
 
 /// Rows per band of [`box_mean`]'s vertical pass.
 const BAND: usize = 32;
+
+/// Rows [`box_mean`]'s horizontal pass sums side by side (8 rather than 4:
+/// each running sum waits on its own add and subtract, so twice as many
+/// chains keep the adder busy; the sums are the same).
+const ROWS: usize = 8;
 
 #[cfg(test)]
 mod tests {
