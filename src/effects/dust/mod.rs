@@ -25,6 +25,7 @@
 
 pub mod film;
 pub mod granules;
+pub mod settle;
 pub mod shade;
 
 use image::{GrayImage, RgbImage, RgbaImage};
