@@ -20,10 +20,15 @@ const SILL_ROW: f32 = 150.0;
 /// greys once painted over) with one found sill at [`SCALE`], aged 50
 /// years of dust alone.
 fn aged_sill_wall() -> RgbImage {
+    aged_wall(vec![[100.0, SILL_ROW], [300.0, SILL_ROW]])
+}
+
+/// The wall of [`aged_sill_wall`] with a found sill along `polyline`.
+fn aged_wall(polyline: Vec<[f32; 2]>) -> RgbImage {
     let photo = RgbImage::from_pixel(400, 300, Rgb([140, 90, 70]));
     let sill = Ledge {
         kind: LedgeKind::Sill,
-        polyline: vec![[100.0, SILL_ROW], [300.0, SILL_ROW]],
+        polyline,
         confidence: 0.7,
     };
     let scene = Scene::new(Photo::new(DynamicImage::ImageRgb8(photo)), None)
@@ -79,4 +84,58 @@ fn a_sill_top_is_a_darker_band_on_the_sill_after_fifty_years() {
             "the wall {name} the sill {beside:.1} against the open wall {open:.1}"
         );
     }
+}
+
+/// Luma of pixel (x, y).
+fn luma(img: &RgbImage, x: u32, y: u32) -> f32 {
+    let p = img.get_pixel(x, y).0;
+    0.299 * p[0] as f32 + 0.587 * p[1] as f32 + 0.114 * p[2] as f32
+}
+
+#[test]
+fn a_sill_tops_band_is_soft_not_a_hairline() {
+    // Blind review p55: "thin, crisp dark lines ... sharper than anything
+    // else in this soft photo". Down each column through the band, no
+    // pixel-to-pixel step takes more than 60% of the band's darkening, and
+    // the band darkens at least three rows by a tenth of its darkest.
+    let img = aged_sill_wall();
+    let open = mean_luma(&img, 40..100);
+    let (mut worst, mut rows) = (0.0f32, u32::MAX);
+    for x in 150..250 {
+        let dark: Vec<f32> = (140..158)
+            .map(|y| (open - luma(&img, x, y)).max(0.0))
+            .collect();
+        let deepest = dark.iter().cloned().fold(0.0, f32::max);
+        if deepest < 8.0 {
+            continue;
+        }
+        let step = dark
+            .windows(2)
+            .map(|p| (p[1] - p[0]).abs())
+            .fold(0.0, f32::max);
+        worst = worst.max(step / deepest);
+        rows = rows.min(dark.iter().filter(|d| **d > 0.1 * deepest).count() as u32);
+    }
+    assert!(worst <= 0.6, "a step of {worst:.2} of the band's darkening");
+    assert!(rows >= 3, "the band darkens {rows} rows");
+}
+
+#[test]
+fn a_bent_polyline_is_not_a_ledge() {
+    // A "ledge" that dips 11 px in a V (art738's, across a sign's
+    // lettering) gets no top band: the wall along it stays within 3% of
+    // the open wall.
+    let img = aged_wall(vec![
+        [100.0, 140.0],
+        [150.0, 140.0],
+        [200.0, 151.0],
+        [250.0, 140.0],
+        [300.0, 140.0],
+    ]);
+    let open = mean_luma(&img, 40..100);
+    let along = mean_luma(&img, 136..152);
+    assert!(
+        (along - open).abs() < 0.03 * open,
+        "along the bent line {along:.1} against the open wall {open:.1}"
+    );
 }

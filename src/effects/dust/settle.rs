@@ -16,6 +16,7 @@
 use image::GrayImage;
 use rayon::prelude::*;
 
+use super::band;
 use crate::analysis::LedgeKind;
 use crate::effects::{Context, habitat};
 use crate::field::RowMajor;
@@ -34,8 +35,8 @@ pub const UP_GAIN: f32 = 2.0;
 
 /// The thinnest band drawn on a ledge's top, photo pixels: the 6 cm of
 /// `dust.ledge_top_m` is 1.5 px at the LMF photos' usual 4 cm a pixel and
-/// 0.6 px at 10 cm; with [`across`]'s one-pixel fades a band covers its
-/// depth plus one pixel [choice: 2 px drew a preview's band (a time-lapse
+/// 0.6 px at 10 cm; with [`band::across`]'s soft edges a band covers its
+/// depth plus its edges' width [choice: 2 px drew a preview's band (a time-lapse
 /// drawn at a third of the size) three times as deep in metres as the
 /// run's, 0.20 levels off in `tests/years.rs`].
 pub const MIN_BAND_PX: f32 = 1.0;
@@ -86,34 +87,39 @@ pub fn along(x: f32, first: f32, last: f32, taper: f32) -> f32 {
     END_SHARE + (1.0 - END_SHARE) * smooth
 }
 
-/// How much of a ledge's top band covers a pixel whose centre is `above`
-/// pixels above the ledge's drip line, for a band `depth` pixels deep: 1
-/// from half a pixel below the line to `depth` above it, fading over one
-/// pixel at both edges (a band's edge is antialiased, not a step).
-pub fn across(above: f32, depth: f32) -> f32 {
-    let bottom = (above + 1.0).clamp(0.0, 1.0);
-    let top = (depth + 0.5 - above).clamp(0.0, 1.0);
-    bottom.min(top)
-}
-
 /// Ledge tops on the grid: for each cell the strongest band over it, the
-/// ledge's confidence (full from [`SURE_FULL`]) times [`along`] times
-/// [`across`], window heads [`WINDOW_HEAD_SHARE`] of that.
-pub fn ledge_tops(ctx: &Context, depth_m: f32) -> RowMajor<f32> {
+/// ledge's confidence (full from [`SURE_FULL`]) times how straight it is
+/// ([`band::straight`]) times [`along`] times [`band::across`] about its
+/// fitted line, as soft as the photo's edge there ([`band::edge_width`]),
+/// times the patches (`patch`, 0..1) read on the line: they make the band
+/// stronger and weaker along the ledge, never move its edges. Window
+/// heads [`WINDOW_HEAD_SHARE`] of that.
+pub fn ledge_tops(ctx: &Context, depth_m: f32, patch: &Patches) -> RowMajor<f32> {
     let depth = ctx.photo_px(depth_m).max(MIN_BAND_PX);
     let taper = ctx.photo_px(END_TAPER_M);
-    let lines: Vec<(&[[f32; 2]], f32)> = ctx
+    let bands: Vec<Band> = ctx
         .site
         .ledges
         .iter()
         .filter(|l| l.polyline.len() >= 2)
-        .map(|l| {
+        .filter_map(|l| {
             let kind = match l.kind {
                 LedgeKind::WindowHead => WINDOW_HEAD_SHARE,
                 _ => 1.0,
             };
-            let sure = (l.confidence / SURE_FULL).clamp(0.0, 1.0);
-            (l.polyline.as_slice(), kind * sure)
+            let (a, b) = (l.polyline[0][0], l.polyline[l.polyline.len() - 1][0]);
+            let (first, last) = (a.min(b), a.max(b));
+            let fit = band::fit(&l.polyline);
+            let sure =
+                (l.confidence / SURE_FULL).clamp(0.0, 1.0) * band::straight(&fit, last - first);
+            let strength = kind * sure;
+            (strength > 0.0).then(|| Band {
+                fit,
+                first,
+                last,
+                strength,
+                soft: band::edge_width(ctx, &fit, first, last),
+            })
         })
         .collect();
     let (w, h) = (ctx.grid.width, ctx.grid.height);
@@ -124,13 +130,16 @@ pub fn ledge_tops(ctx: &Context, depth_m: f32) -> RowMajor<f32> {
         .for_each(|(gy, row)| {
             for (gx, v) in row.iter_mut().enumerate() {
                 let (x, y) = ctx.grid.to_photo(gx as f32 + 0.5, gy as f32 + 0.5);
-                *v = lines
+                *v = bands
                     .iter()
-                    .filter_map(|(line, sure)| {
-                        let r = habitat::row_at(line, x)?;
-                        let (first, last) = (line[0][0], line[line.len() - 1][0]);
-                        let (first, last) = (first.min(last), first.max(last));
-                        Some(sure * along(x, first, last, taper) * across(r - y, depth))
+                    .filter(|b| x >= b.first && x <= b.last)
+                    .map(|b| {
+                        let r = b.fit.row(x);
+                        let cover = band::across(r - y, depth, b.soft);
+                        if cover <= 0.0 {
+                            return 0.0;
+                        }
+                        b.strength * along(x, b.first, b.last, taper) * cover * patch.at(x, r)
                     })
                     .fold(0.0, f32::max);
             }
@@ -138,10 +147,23 @@ pub fn ledge_tops(ctx: &Context, depth_m: f32) -> RowMajor<f32> {
     out
 }
 
+/// One ledge's band: its fitted line, its columns, its strength 0..1 and
+/// the width of its edges in photo pixels.
+struct Band {
+    fit: band::Fit,
+    first: f32,
+    last: f32,
+    strength: f32,
+    soft: f32,
+}
+
 /// How much dust stays per grid cell, 1 = a flat wall's full dust: the
-/// open wall's `open_wall`, up to [`UP_GAIN`] on ledge tops and
-/// [`SHELTER_SHARE`] in rain shelter, in patches (`patch`, 0..1), more in
-/// joints; the climate's light (`light`) then moves it.
+/// open wall's `open_wall`, up to [`UP_GAIN`] on ledge tops (`tops`, its
+/// patches already in) and [`SHELTER_SHARE`] in rain shelter, in patches
+/// (`patch`, 0..1) and more in joints there; the climate's light
+/// (`light`) then moves it. [choice] The joints soak the shelter's dirt,
+/// not the ledge top's band: a joint's pixel in the band made its edge
+/// speckled (p55: "jagged and speckled" at bost29's string courses).
 pub fn stays(
     p: &DustParams,
     tops: &RowMajor<f32>,
@@ -152,9 +174,12 @@ pub fn stays(
 ) -> RowMajor<f32> {
     let mut out = tops.clone();
     for (i, v) in out.data_mut().iter_mut().enumerate() {
-        let held = (UP_GAIN * *v).max(SHELTER_SHARE * shelter.data()[i]) * patch.data()[i];
-        let soaked = held * (1.0 + JOINT_GAIN * joints.data()[i]);
-        *v = (p.open_wall + (1.0 - p.open_wall) * soaked) * light.data()[i];
+        let sheltered = SHELTER_SHARE
+            * shelter.data()[i]
+            * patch.data()[i]
+            * (1.0 + JOINT_GAIN * joints.data()[i]);
+        let held = (UP_GAIN * *v).max(sheltered);
+        *v = (p.open_wall + (1.0 - p.open_wall) * held) * light.data()[i];
     }
     out
 }
@@ -164,38 +189,66 @@ pub fn stays(
 /// top is never clean]. The noise is laid out in centimetres of wall, so
 /// a time-lapse's preview (the photo drawn smaller, its scale with it)
 /// shows the run's patches.
-pub fn patches(ctx: &Context, seed: u64) -> RowMajor<f32> {
-    let (gw, gh) = (ctx.grid.width, ctx.grid.height);
-    let key = crate::random::key(seed, (crate::effects::Effect::Dust, PATCHES), 0, 0);
-    let px_per_cm = ctx.photo_px(0.01).max(f32::MIN_POSITIVE);
-    let (w, h) = ctx.size();
-    // At most a kilometre of wall (the lattice's size): past it the noise
-    // holds its last value.
-    let cm = |px: u32| (px as f32 / px_per_cm).min(100_000.0);
-    let (w_cm, h_cm) = (cm(w), cm(h));
-    let scale = (PATCH_M * 100.0).max(1.0);
-    let noise = crate::random::Noise::new(key, w_cm as u32 + 1, h_cm as u32 + 1, scale, 3);
-    let mut out = RowMajor::filled(gw, gh, 0.0);
-    out.data_mut()
-        .par_chunks_mut(gw)
-        .enumerate()
-        .for_each(|(gy, row)| {
-            for (gx, v) in row.iter_mut().enumerate() {
-                let (x, y) = ctx.grid.to_photo(gx as f32 + 0.5, gy as f32 + 0.5);
-                let n = noise.at(x / px_per_cm, y / px_per_cm);
-                *v = (0.6 + 2.0 * (n - 0.5)).clamp(0.25, 1.0);
-            }
-        });
-    out
+pub struct Patches {
+    noise: crate::random::Noise,
+    px_per_cm: f32,
+}
+
+impl Patches {
+    /// The patches for `seed` over the photo of `ctx`.
+    pub fn new(ctx: &Context, seed: u64) -> Self {
+        let key = crate::random::key(seed, (crate::effects::Effect::Dust, PATCHES), 0, 0);
+        let px_per_cm = ctx.photo_px(0.01).max(f32::MIN_POSITIVE);
+        let (w, h) = ctx.size();
+        // At most a kilometre of wall (the lattice's size): past it the
+        // noise holds its last value.
+        let cm = |px: u32| (px as f32 / px_per_cm).min(100_000.0);
+        let (w_cm, h_cm) = (cm(w), cm(h));
+        let scale = (PATCH_M * 100.0).max(1.0);
+        let noise = crate::random::Noise::new(key, w_cm as u32 + 1, h_cm as u32 + 1, scale, 3);
+        Patches { noise, px_per_cm }
+    }
+
+    /// The patch value, 0.25..1, at photo point (x, y).
+    pub fn at(&self, x: f32, y: f32) -> f32 {
+        let n = self.noise.at(x / self.px_per_cm, y / self.px_per_cm);
+        (0.6 + 2.0 * (n - 0.5)).clamp(0.25, 1.0)
+    }
+
+    /// The patches on the grid.
+    pub fn on_grid(&self, ctx: &Context) -> RowMajor<f32> {
+        let (gw, gh) = (ctx.grid.width, ctx.grid.height);
+        let mut out = RowMajor::filled(gw, gh, 0.0);
+        out.data_mut()
+            .par_chunks_mut(gw)
+            .enumerate()
+            .for_each(|(gy, row)| {
+                for (gx, v) in row.iter_mut().enumerate() {
+                    let (x, y) = ctx.grid.to_photo(gx as f32 + 0.5, gy as f32 + 0.5);
+                    *v = self.at(x, y);
+                }
+            });
+        out
+    }
+}
+
+/// The rain shelter on the grid, its edges as soft as a ledge top's
+/// band ([`band::SOFT_MIN_PX`]): the analysis's shelter is a box under
+/// each ledge, stepped where its polyline steps, and its sides and top
+/// drew lines of their own.
+fn soft_shelter(ctx: &Context) -> RowMajor<f32> {
+    let r = (band::SOFT_MIN_PX / ctx.grid.scale).round().max(1.0) as usize;
+    crate::effects::climate::blur(&habitat::shelter(ctx), r)
 }
 
 /// The settle map at the photo's size, 0..255 with [`ONE`] = the flat
 /// wall's full dust (see [`stays`]).
 pub fn map(ctx: &Context, p: &DustParams, seed: u64, light: RowMajor<f32>) -> GrayImage {
-    let tops = ledge_tops(ctx, p.ledge_top_m);
-    let shelter = habitat::shelter(ctx);
+    let patches = Patches::new(ctx, seed);
+    let tops = ledge_tops(ctx, p.ledge_top_m, &patches);
+    let shelter = soft_shelter(ctx);
     let joints = habitat::joints(ctx);
-    let patch = patches(ctx, seed);
+    let patch = patches.on_grid(ctx);
     let mut v = stays(p, &tops, &shelter, &joints, &patch, &light);
     // `upsample` writes v x 255 (x the mask's weight): store v x ONE.
     for x in v.data_mut() {
@@ -221,16 +274,6 @@ pub fn apply(pixels: &mut [u8], channels: usize, settle: &GrayImage) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_band_sits_on_the_line_and_fades_at_its_edges() {
-        assert_eq!(across(0.0, 2.0), 1.0, "on the drip line");
-        assert_eq!(across(1.5, 2.0), 1.0, "inside the band's depth");
-        assert!((across(2.0, 2.0) - 0.5).abs() < 1e-6, "at its depth");
-        assert_eq!(across(-1.5, 2.0), 0.0, "below the ledge");
-        assert_eq!(across(3.0, 2.0), 0.0, "above the band");
-        assert!((across(-0.5, 2.0) - 0.5).abs() < 1e-6);
-    }
 
     #[test]
     fn a_ledge_is_darkest_in_its_middle() {
