@@ -4,7 +4,6 @@
 use std::sync::Arc;
 
 use image::GrayImage;
-use rayon::prelude::*;
 use serde::Serialize;
 
 use super::moss::{self, MossInput, Wet};
@@ -636,7 +635,7 @@ pub(super) fn dust(
         let climate = (p.by_light != 0.0).then(|| products.climate(ctx, &preset.climate));
         let make = || {
             let light = encouragement(ctx, climate.as_deref(), p.by_light, |c| &c.light);
-            dust_settle(ctx, p, light)
+            dust::settle::map(ctx, p, preset.seed, light)
         };
         let made;
         let settle = match products.carry.as_deref_mut() {
@@ -646,11 +645,14 @@ pub(super) fn dust(
                 &made
             }
         };
-        settle_alpha(film.as_mut(), 4, settle);
-        settle_alpha(granules.as_mut(), 1, settle);
+        dust::settle::apply(film.as_mut(), 4, settle);
+        dust::settle::apply(granules.as_mut(), 1, settle);
     }
-    let l_wall = surface::wall_luma(ctx.luma, ctx.region);
-    surface::modulate(&mut film, ctx.photo, l_wall);
+    // [choice] The film darkens the wall by its grey (multiply): soot on a
+    // facade keeps the surface's texture and darkens a dark brick as it
+    // does a light render. Painted over as Santos' eq. (11) says, the grey
+    // (70-110) lightened dark walls and hardly showed on mid ones (measured:
+    // ledge tops 2.5 luma darker over 10 LMF photos, two of them lighter).
     let film = LayerPixels::Rgba(film);
     let granules = LayerPixels::Tint {
         color: p.granule_color,
@@ -663,7 +665,7 @@ pub(super) fn dust(
                 Effect::Dust,
                 "dust film".into(),
                 p.film_opacity,
-                normal,
+                BlendMode::Multiply,
                 film,
             ),
             layer(
@@ -677,41 +679,4 @@ pub(super) fn dust(
         layer_stats: vec![None, None],
         stats: Stats::Dust(stats),
     })
-}
-
-/// How much dust settles per photo pixel, 0..255: 255 on ledge tops, half
-/// that in rain shelter, `open_wall` on the rest; the climate's light then
-/// moves it (`light`, by `by_light`; at most 255).
-fn dust_settle(
-    ctx: &Context,
-    p: &crate::preset::DustParams,
-    light: RowMajor<f32>,
-) -> image::GrayImage {
-    let mut settle = habitat::ledge_tops(ctx, p.ledge_top_m);
-    let shelter = habitat::shelter(ctx);
-    for ((v, s), l) in settle
-        .data_mut()
-        .iter_mut()
-        .zip(shelter.data())
-        .zip(light.data())
-    {
-        // [choice] Shelter half as much as a ledge top: the analysis's
-        // shelter is a coarse band, and soot there is a tone, not a coat.
-        *v = ((p.open_wall + (1.0 - p.open_wall) * v.max(0.5 * s)) * l).min(1.0);
-    }
-    let (w, h) = ctx.size();
-    ctx.grid.upsample(&settle, ctx.mask, w, h)
-}
-
-/// Scales the alpha (the last of `channels` per pixel) of `pixels` by
-/// `settle` (0..255 per pixel).
-fn settle_alpha(pixels: &mut [u8], channels: usize, settle: &image::GrayImage) {
-    pixels
-        .par_chunks_exact_mut(channels)
-        .zip(settle.as_raw().par_iter())
-        .for_each(|(px, s)| {
-            let a = &mut px[channels - 1];
-            // Rounded down: a trace of dust on the washed wall is none.
-            *a = (*a as u32 * *s as u32 / 255) as u8;
-        });
 }

@@ -23,8 +23,10 @@
 //! reached the same way in one step or several, so a state advanced frame
 //! by frame (a time-lapse) equals a state advanced at once, byte for byte.
 
+pub mod band;
 pub mod film;
 pub mod granules;
+pub mod settle;
 pub mod shade;
 
 use image::{GrayImage, RgbImage, RgbaImage};
