@@ -81,23 +81,24 @@ fn grow(road: &Road, cols: std::ops::Range<usize>, added: &[bool], g: &mut [bool
     }
     let model = median3(&mut under);
     let seeds: Vec<usize> = cols.map(|x| cut * w + x).collect();
-    climb(road, &seeds, model, top..cut, g);
+    let (f, w, h) = (road.f, road.f.w, road.f.h);
+    let rim_oblique = |p: &[bool]| oblique(f, &with_rim(p, w, h)) > OBLIQUE;
+    climb(road, &seeds, model, top..cut, rim_oblique, g);
 }
 
 /// Grows the ground in `g` upward from `seeds` (pixels of `g` or next to
 /// it) with the colour `model`, through smooth unsaturated wall in `rows`
 /// within [`GROUND_COLOUR`] of it, across no colour step, and keeps what
 /// it reaches (the seeds not already in `g` with it) on the terms of
-/// [`past_the_cut`]: it lies flat, runs oblique with its rim or alone
-/// (asphalt's grain runs every way; between a level kerb and a level
-/// shadow's edge the rim is level: madrid img_0828's road 0.51 alone, 0.39
-/// with the rim), does not look like what lies above it, and loses what
-/// it climbed.
+/// [`past_the_cut`]: it lies flat, does not look like what lies above it,
+/// passes the caller's test `keep` (past the cut: it runs oblique with
+/// its rim, [`OBLIQUE`]), and loses what it climbed.
 pub(super) fn climb(
     road: &Road,
     seeds: &[usize],
     model: [f32; 3],
     rows: std::ops::Range<usize>,
+    keep: impl Fn(&[bool]) -> bool,
     g: &mut [bool],
 ) {
     let (f, top, at) = (road.f, road.top, road.at);
@@ -124,8 +125,8 @@ pub(super) fn climb(
     }
     if !part.contains(&true)
         || !lies_flat(&part, road.side)
-        || (oblique(f, &with_rim(&part, w, h)) <= OBLIQUE && oblique(f, &part) <= OBLIQUE)
         || like_above(&part, at, w, h, top)
+        || !keep(&part)
     {
         return;
     }
@@ -135,7 +136,7 @@ pub(super) fn climb(
 
 /// `part` with the pixels within [`RIM`] of it: the lane lines and kerbs
 /// a road's fill stops at are on its rim.
-fn with_rim(part: &[bool], w: usize, h: usize) -> Vec<bool> {
+pub(super) fn with_rim(part: &[bool], w: usize, h: usize) -> Vec<bool> {
     let mut out = part.to_vec();
     for (i, _) in part.iter().enumerate().filter(|&(_, &p)| p) {
         let (x, y) = (i % w, i / w);
