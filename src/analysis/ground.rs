@@ -15,6 +15,7 @@ use super::perspective::{nearer_smoother, oblique};
 use super::plane::{Sideways, UPRIGHT};
 use super::wall::{Class, flood};
 
+mod across;
 mod climbs;
 mod crest;
 use climbs::{like_above, off_the_climbs};
@@ -99,6 +100,8 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
         side,
     };
     crest::past_the_cut(&road, &before, &mut g);
+    // The road across a shadow's edge, up to the kerb.
+    across::past_the_step(&road, &before, &mut g);
     let grey = (FLAT_GROUND, FLAT_GROUND_SATURATION, light);
     super::lawn::below(f, side, class, &lawn, grey, &mut g);
     let (mut at_cap, mut cols) = (0, 0);

@@ -80,26 +80,53 @@ fn grow(road: &Road, cols: std::ops::Range<usize>, added: &[bool], g: &mut [bool
         return;
     }
     let model = median3(&mut under);
-    let like = |i: usize| road.basic[i] && l1(at(i), model) < GROUND_COLOUR;
     let seeds: Vec<usize> = cols.map(|x| cut * w + x).collect();
+    let (f, w, h) = (road.f, road.f.w, road.f.h);
+    let rim_oblique = |p: &[bool]| oblique(f, &with_rim(p, w, h)) > OBLIQUE;
+    climb(road, &seeds, model, top..cut, rim_oblique, g);
+}
+
+/// Grows the ground in `g` upward from `seeds` (pixels of `g` or next to
+/// it) with the colour `model`, through smooth unsaturated wall in `rows`
+/// within [`GROUND_COLOUR`] of it, across no colour step, and keeps what
+/// it reaches (the seeds not already in `g` with it) on the terms of
+/// [`past_the_cut`]: it lies flat, does not look like what lies above it,
+/// passes the caller's test `keep` (past the cut: it runs oblique with
+/// its rim, [`OBLIQUE`]), and loses what it climbed.
+pub(super) fn climb(
+    road: &Road,
+    seeds: &[usize],
+    model: [f32; 3],
+    rows: std::ops::Range<usize>,
+    keep: impl Fn(&[bool]) -> bool,
+    g: &mut [bool],
+) {
+    let (f, top, at) = (road.f, road.top, road.at);
+    let (w, h) = (f.w, f.h);
+    let like = |i: usize| road.basic[i] && l1(at(i), model) < GROUND_COLOUR;
     let mut cand = vec![false; w * h];
-    for (i, c) in cand.iter_mut().enumerate().take(cut * w).skip(top * w) {
+    for (i, c) in cand
+        .iter_mut()
+        .enumerate()
+        .take(rows.end * w)
+        .skip(rows.start * w)
+    {
         *c = !g[i] && like(i);
     }
-    for &s in &seeds {
+    for &s in seeds {
         cand[s] = true;
     }
     let steps = road.steps;
-    let mut part = flood(&cand, w, h, seeds.clone(), |i, j| {
+    let mut part = flood(&cand, w, h, seeds.to_vec(), |i, j| {
         l1(steps[i], steps[j]) < GROUND_STEP
     });
-    for &s in &seeds {
-        part[s] = false;
+    for &s in seeds {
+        part[s] &= !g[s];
     }
     if !part.contains(&true)
         || !lies_flat(&part, road.side)
-        || oblique(f, &with_rim(&part, w, h)) <= OBLIQUE
         || like_above(&part, at, w, h, top)
+        || !keep(&part)
     {
         return;
     }
@@ -109,7 +136,7 @@ fn grow(road: &Road, cols: std::ops::Range<usize>, added: &[bool], g: &mut [bool
 
 /// `part` with the pixels within [`RIM`] of it: the lane lines and kerbs
 /// a road's fill stops at are on its rim.
-fn with_rim(part: &[bool], w: usize, h: usize) -> Vec<bool> {
+pub(super) fn with_rim(part: &[bool], w: usize, h: usize) -> Vec<bool> {
     let mut out = part.to_vec();
     for (i, _) in part.iter().enumerate().filter(|&(_, &p)| p) {
         let (x, y) = (i % w, i / w);
