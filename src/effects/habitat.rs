@@ -29,7 +29,7 @@ const JOINT_DEPTH: f32 = 0.15;
 
 /// A map on the grid from a function of the photo point at each cell's
 /// centre.
-fn on_grid(ctx: &Context, f: impl Fn(f32, f32) -> f32 + Sync) -> RowMajor<f32> {
+pub fn on_grid(ctx: &Context, f: impl Fn(f32, f32) -> f32 + Sync) -> RowMajor<f32> {
     let (w, h) = (ctx.grid.width, ctx.grid.height);
     let mut out = RowMajor::filled(w, h, 0.0);
     out.data_mut()

@@ -97,7 +97,8 @@ pub struct DustParams {
     /// Opacity of the granules layer.
     pub granule_opacity: f32,
     /// How much dust stays on the open, rain-washed wall, 0..1, against 1
-    /// on ledge tops and in rain shelter.
+    /// on a vertical wall that rain never washes (rain shelter keeps 0.75,
+    /// ledge tops, facing up, up to 2).
     pub open_wall: f32,
     /// Depth of the dusty band on top of each ledge, metres.
     pub ledge_top_m: f32,

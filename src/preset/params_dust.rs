@@ -128,7 +128,7 @@ pub(super) const DUST_AND_GAMMATON: &[ParamSpec] = &[
     p(
         "dust.open_wall",
         "",
-        "How much dust stays on the open wall that rain washes, against 1 on ledge tops and in rain shelter",
+        "How much dust stays on the open wall that rain washes, against 1 on an unwashed wall (rain shelter 0.75, ledge tops up to 2)",
         0.0,
         1.0,
     ),

@@ -122,29 +122,20 @@ pub fn ledge_tops(ctx: &Context, depth_m: f32, patch: &Patches) -> RowMajor<f32>
             })
         })
         .collect();
-    let (w, h) = (ctx.grid.width, ctx.grid.height);
-    let mut out = RowMajor::filled(w, h, 0.0);
-    out.data_mut()
-        .par_chunks_mut(w)
-        .enumerate()
-        .for_each(|(gy, row)| {
-            for (gx, v) in row.iter_mut().enumerate() {
-                let (x, y) = ctx.grid.to_photo(gx as f32 + 0.5, gy as f32 + 0.5);
-                *v = bands
-                    .iter()
-                    .filter(|b| x >= b.first && x <= b.last)
-                    .map(|b| {
-                        let r = b.fit.row(x);
-                        let cover = band::across(r - y, depth, b.soft);
-                        if cover <= 0.0 {
-                            return 0.0;
-                        }
-                        b.strength * along(x, b.first, b.last, taper) * cover * patch.at(x, r)
-                    })
-                    .fold(0.0, f32::max);
-            }
-        });
-    out
+    habitat::on_grid(ctx, |x, y| {
+        bands
+            .iter()
+            .filter(|b| x >= b.first && x <= b.last)
+            .map(|b| {
+                let r = b.fit.row(x);
+                let cover = band::across(r - y, depth, b.soft);
+                if cover <= 0.0 {
+                    return 0.0;
+                }
+                b.strength * along(x, b.first, b.last, taper) * cover * patch.at(x, r)
+            })
+            .fold(0.0, f32::max)
+    })
 }
 
 /// One ledge's band: its fitted line, its columns, its strength 0..1 and
@@ -217,18 +208,7 @@ impl Patches {
 
     /// The patches on the grid.
     pub fn on_grid(&self, ctx: &Context) -> RowMajor<f32> {
-        let (gw, gh) = (ctx.grid.width, ctx.grid.height);
-        let mut out = RowMajor::filled(gw, gh, 0.0);
-        out.data_mut()
-            .par_chunks_mut(gw)
-            .enumerate()
-            .for_each(|(gy, row)| {
-                for (gx, v) in row.iter_mut().enumerate() {
-                    let (x, y) = ctx.grid.to_photo(gx as f32 + 0.5, gy as f32 + 0.5);
-                    *v = self.at(x, y);
-                }
-            });
-        out
+        habitat::on_grid(ctx, |x, y| self.at(x, y))
     }
 }
 
