@@ -104,13 +104,7 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
     across::past_the_step(&road, &before, &mut g);
     let grey = (FLAT_GROUND, FLAT_GROUND_SATURATION, light);
     super::lawn::below(f, side, class, &lawn, grey, &mut g);
-    let (mut at_cap, mut cols) = (0, 0);
-    for x in 0..w {
-        if let Some(y) = (top..h).find(|&y| g[y * w + x]) {
-            cols += 1;
-            at_cap += (y == top) as usize;
-        }
-    }
+    let (at_cap, cols) = up_to_the_limit(&g, w, top);
     if cols == 0 || at_cap * 10 > cols * 9 {
         return;
     }
@@ -119,6 +113,20 @@ pub(super) fn ground(f: &Features, steps: &[[f32; 3]], side: &Sideways, class: &
             *c = Class::Ground;
         }
     }
+}
+
+/// How many columns of `set` (`w` wide) run up to the `top` limit row,
+/// and how many hold any of it from `top` down.
+fn up_to_the_limit(set: &[bool], w: usize, top: usize) -> (usize, usize) {
+    let h = set.len() / w.max(1);
+    let (mut at_cap, mut cols) = (0, 0);
+    for x in 0..w {
+        if let Some(y) = (top..h).find(|&y| set[y * w + x]) {
+            cols += 1;
+            at_cap += (y == top) as usize;
+        }
+    }
+    (at_cap, cols)
 }
 
 /// Ground that lies flat, for roads the stretches miss: a crossing's

@@ -9,8 +9,8 @@
 //! shadow is blue under the open sky (too saturated for ground).
 
 use super::super::perspective::oblique;
-use super::crest::{Road, climb, with_rim};
-use super::{JOINT_BAND, NARROW, OBLIQUE, median3};
+use super::crest::{MODEL_ROWS, Road, climb, with_rim};
+use super::{JOINT_BAND, NARROW, OBLIQUE, median3, up_to_the_limit};
 
 /// Grows the ground in `g` across the colour step its top stops at: in
 /// each column, the first smooth, unsaturated wall pixel (`road.basic`)
@@ -18,7 +18,7 @@ use super::{JOINT_BAND, NARROW, OBLIQUE, median3};
 /// step's own pixels are textured). Each run of at least a [`NARROW`]th
 /// of the width of seeded columns climbs ([`climb`]) with its own colour
 /// model, the median of the ground-like pixels in the [`MODEL_ROWS`]th of
-/// the height above its seeds, on the terms the road past the flat
+/// the height above its seeds (as the crest step reads it under the cut), on the terms the road past the flat
 /// ground's cut is kept on (it lies flat, is not like what lies above it,
 /// and loses what it climbed), runs oblique with its rim or alone
 /// ([`runs_oblique`]), and stops below the 45% limit
@@ -104,14 +104,7 @@ fn runs_oblique(road: &Road, part: &[bool]) -> bool {
 /// turned ground up to the limit in 0.61 of the part's columns, cmp_b0123
 /// 0.30).
 fn below_the_limit(part: &[bool], w: usize, top: usize) -> bool {
-    let h = part.len() / w.max(1);
-    let (mut cols, mut at_cap) = (0usize, 0usize);
-    for x in 0..w {
-        if let Some(y) = (top..h).find(|&y| part[y * w + x]) {
-            cols += 1;
-            at_cap += (y == top) as usize;
-        }
-    }
+    let (at_cap, cols) = up_to_the_limit(part, w, top);
     at_cap as f32 <= cols as f32 * AT_THE_LIMIT
 }
 
@@ -125,10 +118,6 @@ const AT_THE_LIMIT: f32 = 0.1;
 /// not ground-like: the seed is looked for this many rows above the
 /// ground's top.
 const GAP: usize = 4;
-
-/// The colour model is read over this share (one over it) of the height
-/// above the seeds (as [`super::crest`] reads it under the cut).
-const MODEL_ROWS: usize = 12;
 
 #[cfg(test)]
 mod tests {

@@ -156,7 +156,7 @@ const RIM: usize = 2;
 
 /// The colour model is read over this share (one over it) of the height
 /// under the cut (as [`super::climbs::like_above`] looks a twelfth up).
-const MODEL_ROWS: usize = 12;
+pub(super) const MODEL_ROWS: usize = 12;
 
 #[cfg(test)]
 mod tests {
