@@ -1,7 +1,8 @@
 //! Growth and deposits bound to the wall's surface: a layer's colour is
 //! modulated by the photo's own luminance, so the wall's texture, joints
-//! and light show through the moss and the dust instead of disappearing
-//! under a flat colour (issue "looks like a photograph").
+//! and light show through the moss instead of disappearing under a flat
+//! colour (issue "looks like a photograph"). The dust film needs none of
+//! this: it multiplies the wall (`stages::dust`).
 //!
 //! [choice] A pixel's colour becomes `c * L / L_wall` (at most 1.4 c), with L the photo's
 //! luminance there and L_wall the wall's mean luminance: the layer stays a
