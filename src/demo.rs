@@ -196,6 +196,7 @@ pub fn facade(w: u32, h: u32) -> Demo {
     let site = Site {
         metres_per_pixel: STOREY_M / storey_px,
         ground: vec![l.ground as f32; w as usize],
+        ground_sure: Vec::new(),
         ledges,
         shelter: None,
     };

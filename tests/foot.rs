@@ -41,6 +41,19 @@ fn scene() -> Scene {
         .unwrap()
 }
 
+/// The scene with the ground on row `FOOT` under the whole width, the
+/// site `sure(x)` sure of it per column (the left half's wall stands on
+/// it; the right half's line may be a car's roof taken for the foot).
+fn scene_sure(sure: impl Fn(u32) -> f32) -> Scene {
+    let s = scene();
+    let site = Site {
+        ground: vec![FOOT as f32; W as usize],
+        ground_sure: (0..W).map(sure).collect(),
+        ..s.site.clone()
+    };
+    s.with_site(site).unwrap()
+}
+
 /// The preset: `rainfalls` light rainfalls, no moss or dust.
 fn preset(rainfalls: u32) -> Preset {
     let mut p = Preset {
@@ -158,4 +171,27 @@ fn the_soiling_is_byte_identical_at_one_and_two_threads() {
     let (one, two) = (in_pool(1), in_pool(2));
     assert!(one.iter().any(|v| *v > 0.0));
     assert!(one == two, "the soiling differs between 1 and 2 threads");
+}
+
+#[test]
+fn the_foot_is_soiled_only_where_the_scene_is_sure_of_it() {
+    let soiled = |sure: f32| {
+        let sc = scene_sure(|x| if x < W / 2 { 1.0 } else { sure });
+        let a = soiling(&pipeline::run(&sc, &preset(40), &Progress::none()).unwrap());
+        let bottom = FOOT - (0.1 / MPP) as u32..FOOT;
+        (
+            mean(&a, bottom.clone(), 10..W / 2 - 20),
+            mean(&a, bottom, W / 2 + 20..W - 10),
+        )
+    };
+    // Sure on the left: soiled within its 10 cm; unsure on the right: not.
+    let (sure, unsure) = soiled(0.3);
+    assert!(sure > 60.0, "the sure foot's mean alpha {sure}");
+    assert_eq!(unsure, 0.0, "soiling on a foot the scene is not sure of");
+    // Half sure: soiled, less than where sure.
+    let (_, half) = soiled(0.7);
+    assert!(
+        half > 0.3 * sure && half < 0.85 * sure,
+        "{half} against {sure}"
+    );
 }

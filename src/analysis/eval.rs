@@ -593,6 +593,7 @@ mod tests {
             wall_fraction: 1.0,
             ledges,
             foot: Vec::new(),
+            foot_sure: Vec::new(),
             shelter: Vec::new(),
             scale: Scale {
                 metres_per_pixel: 0.01,

@@ -22,7 +22,9 @@
 //!   repeated; a run shorter than [`MIN_RUN`] of the width, or not
 //!   straight, has no foot;
 //! - behind what stands in front: a run between two that continue each
-//!   other, and off their line, is a car's roof or sill ([`in_front`]).
+//!   other, and off their line, is a car's roof or sill ([`in_front`]);
+//! - sure where the class map's wall stands on ground that runs on down
+//!   the photo ([`sure`]): a confidence per stretch.
 //!
 //! Measured against LabelMeFacade's labels ([`super::eval`], columns
 //! within 1.5% of the height of the labelled foot): train precision /
@@ -34,6 +36,7 @@ use super::features::Features;
 use super::wall::Class;
 
 mod path;
+mod sure;
 
 /// Consecutive columns of one run step by at most this, share of the
 /// height.
@@ -83,9 +86,18 @@ pub fn class_line(classes: &[Class], w: usize, h: usize) -> Vec<f32> {
 }
 
 /// The wall's foot as polylines in analysis pixels, left to right, one per
-/// straight stretch (see the module's documentation).
-pub fn find(f: &Features, classes: &[Class]) -> Vec<Vec<[f32; 2]>> {
-    runs(&path::rows(f, classes), f.w, f.h)
+/// straight stretch (see the module's documentation), each with how sure
+/// it is, 0..1 ([`sure`]).
+pub fn find(f: &Features, classes: &[Class]) -> Vec<(Vec<[f32; 2]>, f32)> {
+    let lines = runs(&path::rows(f, classes), f.w, f.h);
+    let class = class_line(classes, f.w, f.h);
+    lines
+        .into_iter()
+        .map(|l| {
+            let s = sure::sure(classes, &class, (f.w, f.h), &l);
+            (l, s)
+        })
+        .collect()
 }
 
 /// Groups the per-column rows into long straight runs, each fitted with a

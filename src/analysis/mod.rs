@@ -193,6 +193,9 @@ pub struct Analysis {
     /// right, each from the left edge of its first column to the right
     /// edge of its last.
     pub foot: Vec<Vec<[f32; 2]>>,
+    /// How sure each polyline of [`Analysis::foot`] is to be the wall's
+    /// foot, 0..1, in the same order ([`foot_line`]'s `sure`).
+    pub foot_sure: Vec<f32>,
     /// Rain shelter at analysis resolution, 0..1 (1 = fully sheltered).
     #[serde(skip)]
     pub shelter: Vec<f32>,
@@ -260,10 +263,10 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
             ..l
         })
         .collect();
-    let foot = foot
+    let (foot, foot_sure): (Vec<_>, Vec<_>) = foot
         .into_iter()
-        .map(|l| l.into_iter().map(to_photo).collect())
-        .collect();
+        .map(|(l, s)| (l.into_iter().map(to_photo).collect(), s))
+        .unzip();
     let scale = scale::estimate(&f, &classes, &ledges, storey, glass_rows, opts.wall_width_m);
     Ok(Analysis {
         width: photo.width(),
@@ -275,6 +278,7 @@ pub fn analyse(photo: &Photo, opts: &Options) -> Result<Analysis> {
         wall_fraction,
         ledges,
         foot,
+        foot_sure,
         shelter,
         scale,
         timings: Timings {
@@ -331,6 +335,20 @@ impl Analysis {
                     .iter()
                     .find_map(|l| crate::effects::habitat::row_at(l, px))
                     .map_or(f32::NAN, |y| y / fy)
+            })
+            .collect()
+    }
+
+    /// Per column of the photo scaled to `w` wide, how sure the wall's
+    /// foot there is ([`Analysis::foot_sure`]), 0 where none is seen.
+    pub fn foot_sure_rows(&self, w: u32) -> Vec<f32> {
+        let fx = self.width as f32 / w.max(1) as f32;
+        (0..w)
+            .map(|x| {
+                let px = (x as f32 + 0.5) * fx;
+                (self.foot.iter().zip(&self.foot_sure))
+                    .find(|(l, _)| crate::effects::habitat::row_at(l, px).is_some())
+                    .map_or(0.0, |(_, s)| *s)
             })
             .collect()
     }

@@ -58,6 +58,13 @@ const TAPER_M: f32 = 0.15;
 /// ... and its height falls to this share of its reach there.
 const TAPER_HEIGHT: f32 = 0.5;
 
+/// Only where the scene is at least this sure the ground row is the
+/// wall's foot ([`crate::pipeline::Site::ground_sure_at`]) is it soiled,
+/// and there its soiling is weighed by how sure [choice: the analysis's
+/// sure foot, `analysis::eval::foot::SURE`; LabelMeFacade train, the
+/// layer's columns right 0.403 on main, BENCHMARKS foot28].
+const SURE: f32 = 0.5;
+
 /// Size of the tone's mottling, metres (soil splashes in patches).
 const MOTTLE_M: f32 = 0.15;
 
@@ -270,6 +277,7 @@ fn columns_of(ctx: &Context, p: &FootParams, ground: Vec<f32>, grown: f32, seed:
     };
     let (top, tide_noise) = (along(TOP, p.top_size_m), along(TIDE, TIDE_SIZE_M));
     let taper = taper(&ground, ctx.photo_px(TAPER_M).max(1.0));
+    let sure = sure_along(ctx, &ground);
     let height = ctx.photo_px(p.height_m) * (YOUNG_HEIGHT + (1.0 - YOUNG_HEIGHT) * grown);
     let tide_h = ctx.photo_px(p.tide_m);
     // fBm's values gather about 0.5: stretched so the top's rises and dips
@@ -287,21 +295,53 @@ fn columns_of(ctx: &Context, p: &FootParams, ground: Vec<f32>, grown: f32, seed:
             false => 0.0,
         })
         .collect();
+    let fade = taper.iter().zip(&sure).map(|(t, s)| t * s).collect();
     Foot {
         ground,
         reach,
         tide,
-        fade: taper,
+        fade,
     }
 }
 
+/// Per column of `ground`, how sure the scene is of it
+/// ([`crate::pipeline::Site::ground_sure_at`]), carried across the gaps
+/// [`ground_line`] bridged (linearly, as the ground row); 0 off the ground.
+fn sure_along(ctx: &Context, ground: &[f32]) -> Vec<f32> {
+    let known: Vec<f32> = (0..ground.len())
+        .map(|x| {
+            let s = ctx.site.ground_sure_at(x as u32);
+            match ctx.site.ground_at(x as u32).is_some() && s >= SURE {
+                true => s,
+                false => f32::NAN,
+            }
+        })
+        .collect();
+    let bridged = bridge(&known, ground.len() as f32);
+    ground
+        .iter()
+        .zip(bridged)
+        .map(|(g, s)| {
+            if g.is_finite() && s.is_finite() {
+                s
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
 /// The scene's ground row per photo column where the wall stands on the
-/// ground ([`crate::pipeline::Site::ground_at`]), narrow gaps bridged and
+/// ground ([`crate::pipeline::Site::ground_at`]) and the scene is at least
+/// [`SURE`] sure of it, narrow gaps bridged and
 /// smoothed by a running median; `NaN` elsewhere.
 pub fn ground_line(ctx: &Context) -> Vec<f32> {
     let (w, _) = ctx.size();
     let raw: Vec<f32> = (0..w)
-        .map(|x| ctx.site.ground_at(x).unwrap_or(f32::NAN))
+        .map(|x| match ctx.site.ground_sure_at(x) >= SURE {
+            true => ctx.site.ground_at(x).unwrap_or(f32::NAN),
+            false => f32::NAN,
+        })
         .collect();
     let bridged = bridge(&raw, ctx.photo_px(GAP_M));
     let trend = median(&bridged, (ctx.photo_px(TREND_M) * 0.5).round() as usize);

@@ -27,6 +27,10 @@ pub struct Site {
     /// the photo shows the ground below it (`NaN` where it does not).
     /// Empty when unknown.
     pub ground: Vec<f32>,
+    /// Per photo column, how sure the ground row there is the wall's foot,
+    /// 0..1 ([`Analysis::foot_sure`]); empty when the ground is known (sure
+    /// everywhere).
+    pub ground_sure: Vec<f32>,
     /// Ledges (sills, cornices, ...), photo pixels, top to bottom.
     pub ledges: Vec<Ledge>,
     /// Rain shelter at the photo's size, 255 = fully sheltered; `None` =
@@ -46,6 +50,7 @@ impl PartialEq for Site {
                 .iter()
                 .zip(&other.ground)
                 .all(|(a, b)| same(a, b))
+            && self.ground_sure == other.ground_sure
             && self.ledges == other.ledges
             && self.shelter == other.shelter
     }
@@ -58,6 +63,7 @@ impl Site {
         Site {
             metres_per_pixel: ASSUMED_WALL_WIDTH_M / width.max(1) as f32,
             ground: Vec::new(),
+            ground_sure: Vec::new(),
             ledges: Vec::new(),
             shelter: None,
         }
@@ -87,6 +93,7 @@ impl Site {
         Site {
             metres_per_pixel: a.scale.metres_per_pixel * fx,
             ground: a.foot_rows(w, h),
+            ground_sure: a.foot_sure_rows(w),
             ledges,
             shelter: Some(Arc::new(GrayImage::from_fn(w, h, |x, y| {
                 let s = a.shelter_at((x as f32 + 0.5) * fx, (y as f32 + 0.5) * fy);
@@ -106,9 +113,16 @@ impl Site {
                 .map(|x| self.ground[(((x as f32 + 0.5) / sx) as usize).min(n - 1)] * sy)
                 .collect(),
         };
+        let ground_sure = match self.ground_sure.len() {
+            0 => Vec::new(),
+            n => (0..ow)
+                .map(|x| self.ground_sure[(((x as f32 + 0.5) / sx) as usize).min(n - 1)])
+                .collect(),
+        };
         Site {
             metres_per_pixel: self.metres_per_pixel / sx,
             ground,
+            ground_sure,
             ledges: self
                 .ledges
                 .iter()
@@ -136,6 +150,15 @@ impl Site {
             .get(x as usize)
             .copied()
             .filter(|g| g.is_finite())
+    }
+
+    /// How sure the ground row under photo column `x` is the wall's foot,
+    /// 0..1 (1 where the site does not say).
+    pub fn ground_sure_at(&self, x: u32) -> f32 {
+        match self.ground_sure.len() {
+            0 => 1.0,
+            _ => self.ground_sure.get(x as usize).copied().unwrap_or(0.0),
+        }
     }
 
     /// Rain shelter at photo pixel (x, y), 0..1.

@@ -14,9 +14,14 @@ pub const TOLERANCE: f32 = 0.015;
 /// two polygons) between the wall and the ground that still make a foot.
 const LABEL_GAP: usize = 3;
 
-/// The two lines measured: the class map's lowest wall row over ground
-/// ([`Analysis::class_foot_rows`]) and the seen foot ([`Analysis::foot`]).
-pub const LINES: [&str; 2] = ["class map's lowest wall", "seen foot"];
+/// The lines measured: the class map's lowest wall row over ground
+/// ([`Analysis::class_foot_rows`]), the seen foot ([`Analysis::foot`])
+/// and its stretches at least [`SURE`] sure ([`Analysis::foot_sure`]).
+pub const LINES: [&str; 3] = ["class map's lowest wall", "seen foot", "sure seen foot"];
+
+/// The seen foot's stretches this sure or more are the sure foot's (half
+/// way up the confidence).
+pub const SURE: f32 = 0.5;
 
 /// Sums over a set of photos, per line of [`LINES`].
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -24,11 +29,11 @@ pub struct FootScore {
     /// Photo columns with a true foot.
     pub truth: u64,
     /// Columns where a foot is claimed.
-    pub claimed: [u64; 2],
+    pub claimed: [u64; 3],
     /// Claimed columns within [`TOLERANCE`] of a true foot.
-    pub right: [u64; 2],
+    pub right: [u64; 3],
     /// True foot columns with a claim within [`TOLERANCE`].
-    pub found: [u64; 2],
+    pub found: [u64; 3],
 }
 
 /// Per column of a `w`-wide label image, the row of the labelled wall's
@@ -62,10 +67,11 @@ impl FootScore {
         let tol = TOLERANCE * h as f32;
         self.truth += truth.iter().flatten().count() as u64;
         let Some(a) = a else { return };
-        for (k, line) in [a.class_foot_rows(w, h), a.foot_rows(w, h)]
-            .iter()
-            .enumerate()
-        {
+        let seen = a.foot_rows(w, h);
+        let sure = (seen.iter().zip(a.foot_sure_rows(w)))
+            .map(|(&y, s)| if s >= SURE { y } else { f32::NAN })
+            .collect();
+        for (k, line) in [a.class_foot_rows(w, h), seen, sure].iter().enumerate() {
             for (t, &y) in truth.iter().zip(line) {
                 let near = t.is_some_and(|t| (t - y).abs() <= tol);
                 self.claimed[k] += y.is_finite() as u64;
