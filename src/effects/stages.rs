@@ -165,6 +165,7 @@ fn release(ctx: &Context, r: &crate::preset::RainParams) -> Release {
         width: ctx.grid_px(r.release_width_m),
         end_share: r.end_share,
         uneven: r.uneven,
+        habits: r.habits,
     }
 }
 

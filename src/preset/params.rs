@@ -332,6 +332,13 @@ pub(super) const CORE: &[ParamSpec] = &[
         0.0,
     ),
     p(
+        "rain.habits",
+        "",
+        "Let each ledge shed its water its own way: one end lower than the other (its drip dominant, the other's weak), its own number and width of drip points, a soft wash under some (off: every ledge about one mean, so like sills shed like drips)",
+        0.0,
+        0.0,
+    ),
+    p(
         "rain.breaks",
         "",
         "Let a sure ledge catch the water running down to it from a source above, so the streaks from above stop on its top and only its own drip points streak below it (off: the droplets run on across it)",

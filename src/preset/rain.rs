@@ -102,6 +102,10 @@ pub struct RainParams {
     /// and share one sureness, each keeping its own drips
     /// (`effects::rain::twins`); off = every ledge its own.
     pub twins: bool,
+    /// Whether each ledge sheds its water its own way: one end lower than
+    /// the other, its own drip points' spacing and width, a soft wash under
+    /// some (`effects::rain::habit`); off = every ledge about one mean.
+    pub habits: bool,
     /// Whether a sure ledge catches the water running down to it from a
     /// source above, so the streaks from above stop on it instead of
     /// running on below it (`effects::rain::breaks`).
@@ -154,6 +158,7 @@ impl Default for RainParams {
             uneven: 1.0,
             after_film: true,
             twins: true,
+            habits: true,
             breaks: true,
             break_run_m: crate::effects::rain::breaks::RUN_M,
         }

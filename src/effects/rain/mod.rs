@@ -8,6 +8,7 @@ pub mod breaks;
 pub mod deposit;
 pub mod droplets;
 pub mod fall;
+pub mod habit;
 pub mod regrid;
 pub mod soot;
 pub mod sources;

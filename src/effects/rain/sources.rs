@@ -47,6 +47,9 @@ pub struct Release {
     /// point's water its stain's strength follows ([`Warp::strength`]);
     /// 0 = every streak at full strength.
     pub uneven: f32,
+    /// Whether each ledge draws its own habit (`habit.rs`: a tilt, its
+    /// drip points' spacing and width, a wash), `rain.habits`.
+    pub habits: bool,
 }
 
 impl Release {
@@ -56,6 +59,7 @@ impl Release {
         width: 1.0,
         end_share: 0.0,
         uneven: 0.0,
+        habits: false,
     };
 }
 
@@ -171,21 +175,33 @@ pub struct Warp {
 impl Warp {
     /// The warp of a source `len` pixels long; `rng` draws its drip points.
     pub fn new(len: f32, r: &Release, rng: &mut crate::random::Rng) -> Option<Warp> {
+        Warp::with_habit(len, r, &Habit::LEVEL, rng)
+    }
+
+    /// The warp of a source `len` pixels long shedding its water by
+    /// `habit` (`habit.rs`); `rng` draws its drip points.
+    pub fn with_habit(
+        len: f32,
+        r: &Release,
+        habit: &Habit,
+        rng: &mut crate::random::Rng,
+    ) -> Option<Warp> {
         use rand::Rng as _;
         if r.spacing <= 0.0 || len < 1.0 {
             return None;
         }
         let n = len.ceil() as usize + 1;
         // Release points (centre, weight, width factor); the two ends
-        // share theirs unequally (no ledge is level).
+        // share theirs unequally (no ledge is level), the more so by the
+        // ledge's tilt.
         let (z0, z1) = crate::random::box_muller(rng);
-        let ends = [z0, z1].map(|z| (END_SPREAD * z).exp());
+        let ends = habit.tilted([z0, z1].map(|z| (END_SPREAD * z).exp()));
         let end = |k: usize| ends[k] / (ends[0] + ends[1]);
         let mut points = vec![
             (0.0, r.end_share * end(0), width_factor(rng)),
             (len, r.end_share * end(1), width_factor(rng)),
         ];
-        let drips = drips(len, r.spacing, rng);
+        let drips = drips(len, r.spacing * habit.spacing, rng);
         let drip_total: f32 = drips.iter().map(|d| d.1).sum();
         let drip_share = 1.0 - r.end_share.clamp(0.0, 1.0);
         if drip_total > 0.0 {
@@ -202,6 +218,11 @@ impl Warp {
                 .for_each(|(k, p)| p.1 = end(k));
         }
         let width = r.width.max(0.5);
+        if let Some(wash) = habit.wash_point(len, width) {
+            // The wash takes its share of the water from every point.
+            points.iter_mut().for_each(|p| p.1 *= 1.0 - wash.1);
+            points.push(wash);
+        }
         let mix = |u: f32, width: f32| -> f32 {
             points
                 .iter()
@@ -343,24 +364,24 @@ fn sample(table: &[f32], u: f32) -> f32 {
 /// `len` grid pixels long, from the rain's own stream: the simulation and
 /// the stain draw the same drip points.
 pub fn line_warp(seed: u64, line: usize, len: f32, release: &Release) -> Option<Warp> {
-    let mut rng = crate::random::rng(
-        seed,
-        (crate::effects::Effect::Rain, RELEASE),
-        line as u64 + 1,
-        0,
-    );
-    Warp::new(len, release, &mut rng)
+    let key = line as u64 + 1;
+    let mut rng = crate::random::rng(seed, (crate::effects::Effect::Rain, RELEASE), key, 0);
+    let habit = Habit::of(seed, RELEASE, key, release.habits);
+    Warp::with_habit(len, release, &habit, &mut rng)
 }
 
 /// The warp of the region's top edge.
 pub fn top_warp(seed: u64, len: f32, release: &Release) -> Option<Warp> {
     let mut rng = crate::random::rng(seed, (crate::effects::Effect::Rain, RELEASE), 0, 0);
-    Warp::new(len, release, &mut rng)
+    let habit = Habit::of(seed, RELEASE, 0, release.habits);
+    Warp::with_habit(len, release, &habit, &mut rng)
 }
 
 /// The rain's own stream (with `Effect::Rain`) for each source's drip
 /// points.
 const RELEASE: u16 = 1;
+
+use super::habit::Habit;
 
 /// One water source on the padded grid.
 #[derive(Debug, Clone)]
@@ -496,6 +517,7 @@ mod tests {
             width: 2.0,
             end_share: 0.5,
             uneven,
+            habits: false,
         };
         let warp = |seed, uneven| {
             let mut rng = crate::random::rng(seed, (crate::effects::Effect::Rain, RELEASE), 1, 0);

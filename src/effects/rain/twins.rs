@@ -281,6 +281,7 @@ mod tests {
             width: 2.0,
             end_share: 0.5,
             uneven: 1.0,
+            habits: false,
         };
         let warp = |seed: u64, k: u64| {
             let stream = (crate::effects::Effect::Rain, 1);
