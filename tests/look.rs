@@ -687,8 +687,10 @@ fn flat_paint(end: u32, tweak: impl Fn(&mut Preset)) -> (RgbImage, Outcome) {
     });
     let out = one_ledge_rain(&photo, Some(mask), |p| {
         p.rain.fall_m = 3.0;
-        // Every streak in full: the test is about where they end.
+        // Every streak in full, the ledge shedding evenly (no habit's low
+        // end or wash): the test is about where they end.
         p.rain.uneven = 0.0;
+        p.rain.habits = false;
         tweak(p);
     });
     (photo, out)
