@@ -128,7 +128,7 @@ mod tests {
         let habits: Vec<Habit> = (0..2000).map(|l| Habit::of(7, 1, l, true)).collect();
         let n = habits.len() as f32;
         let share = |f: &dyn Fn(&Habit) -> bool| habits.iter().filter(|h| f(h)).count() as f32 / n;
-        // One end over four times the other's water about two ledges in three.
+        // One end over four times the other's water about one ledge in two.
         let tilted = share(&|h| h.tilt.abs() > 4f32.ln());
         assert!((0.42..0.58).contains(&tilted), "tilted {tilted}");
         let washes = share(&|h| h.wash.is_some());
