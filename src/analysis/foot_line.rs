@@ -38,6 +38,13 @@ use super::wall::Class;
 mod path;
 mod sure;
 
+/// A stretch of the seen foot this sure or more ([`sure`]) is the sure
+/// foot's: the splash soiling keeps to it (`effects/foot.rs`) and the
+/// evaluation's "sure seen foot" counts it (half way up the confidence;
+/// LabelMeFacade train, the soiling's columns right 0.403 -> 0.510,
+/// BENCHMARKS foot28).
+pub const SURE: f32 = 0.5;
+
 /// Consecutive columns of one run step by at most this, share of the
 /// height.
 const RUN_STEP: f32 = 0.006;

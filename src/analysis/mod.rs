@@ -331,12 +331,18 @@ impl Analysis {
         (0..w)
             .map(|x| {
                 let px = (x as f32 + 0.5) * fx;
-                self.foot
-                    .iter()
-                    .find_map(|l| crate::effects::habitat::row_at(l, px))
-                    .map_or(f32::NAN, |y| y / fy)
+                self.foot_at(px).map_or(f32::NAN, |(y, _)| y / fy)
             })
             .collect()
+    }
+
+    /// The seen foot's row under photo column `px` and how sure its
+    /// stretch is (the first polyline of [`Analysis::foot`] spanning it).
+    fn foot_at(&self, px: f32) -> Option<(f32, f32)> {
+        self.foot.iter().enumerate().find_map(|(i, l)| {
+            let sure = self.foot_sure.get(i).copied().unwrap_or(0.0);
+            crate::effects::habitat::row_at(l, px).map(|y| (y, sure))
+        })
     }
 
     /// Per column of the photo scaled to `w` wide, how sure the wall's
@@ -346,9 +352,7 @@ impl Analysis {
         (0..w)
             .map(|x| {
                 let px = (x as f32 + 0.5) * fx;
-                (self.foot.iter().zip(&self.foot_sure))
-                    .find(|(l, _)| crate::effects::habitat::row_at(l, px).is_some())
-                    .map_or(0.0, |(_, s)| *s)
+                self.foot_at(px).map_or(0.0, |(_, s)| s)
             })
             .collect()
     }

@@ -58,12 +58,10 @@ const TAPER_M: f32 = 0.15;
 /// ... and its height falls to this share of its reach there.
 const TAPER_HEIGHT: f32 = 0.5;
 
-/// Only where the scene is at least this sure the ground row is the
-/// wall's foot ([`crate::pipeline::Site::ground_sure_at`]) is it soiled,
-/// and there its soiling is weighed by how sure [choice: the analysis's
-/// sure foot, `analysis::eval::foot::SURE`; LabelMeFacade train, the
-/// layer's columns right 0.403 on main, BENCHMARKS foot28].
-const SURE: f32 = 0.5;
+// Only where the scene is at least `SURE` sure the ground row is the
+// wall's foot (`Site::ground_sure_at`) is it soiled, and there its soiling
+// is weighed by how sure [choice: the analysis's sure foot].
+use crate::analysis::foot_line::SURE;
 
 /// Size of the tone's mottling, metres (soil splashes in patches).
 const MOTTLE_M: f32 = 0.15;

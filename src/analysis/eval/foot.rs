@@ -19,9 +19,7 @@ const LABEL_GAP: usize = 3;
 /// and its stretches at least [`SURE`] sure ([`Analysis::foot_sure`]).
 pub const LINES: [&str; 3] = ["class map's lowest wall", "seen foot", "sure seen foot"];
 
-/// The seen foot's stretches this sure or more are the sure foot's (half
-/// way up the confidence).
-pub const SURE: f32 = 0.5;
+use crate::analysis::foot_line::SURE;
 
 /// Sums over a set of photos, per line of [`LINES`].
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

@@ -48,7 +48,7 @@ pub struct Release {
     /// 0 = every streak at full strength.
     pub uneven: f32,
     /// Whether each ledge draws its own habit (`habit.rs`: a tilt, its
-    /// drip points' spacing and width, a wash), `rain.habits`.
+    /// drip points' spacing, a wash), `rain.habits`.
     pub habits: bool,
 }
 
