@@ -530,14 +530,17 @@ pub(super) fn moss(
         preset.seed,
         progress,
     )?;
-    let l_wall = surface::wall_luma(ctx.luma, ctx.region);
-    surface::modulate(&mut grown.layer, ctx.photo, l_wall);
     // [choice] Colonies a few pixels across (a street photo, centimetres
     // a pixel) are as soft as the photo's own detail: without this they are
     // crisp one-pixel specks, read as pasted sprites in the blind review.
     if baseline < SMALL_COLONY_PX {
         surface::soften(&mut grown.layer, PHOTO_SOFTNESS_PX, ctx.mask);
     }
+    // Lit after the softening, so the wall's joints and grain stay sharp
+    // through the colony (`surface::light`).
+    let radius = ctx.grid_px(surface::light::LIGHT_M).round() as usize;
+    let light = surface::light::Light::of(ctx.photo, ctx.grid, ctx.region, radius);
+    surface::light::light(&mut grown.layer, ctx.photo, &light);
     let pixels = LayerPixels::Rgba(grown.layer);
     let layer = layer(
         Effect::Moss,

@@ -8,7 +8,10 @@
 //! luminance there and L_wall the wall's mean luminance: the layer stays a
 //! normal-blended RGBA layer that any editor shows as it is, and what it
 //! paints carries the light and relief of the wall under it (a colony in a
-//! joint's shadow is darker; a sunlit one lighter).
+//! joint's shadow is darker; a sunlit one lighter). Moss takes the light's
+//! colour as well, and its relief after its softening ([`light`]).
+
+pub mod light;
 
 use image::{GrayImage, ImageBuffer, Rgba, RgbaImage};
 use rayon::prelude::*;
