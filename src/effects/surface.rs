@@ -45,6 +45,22 @@ pub fn wall_mean(values: &RowMajor<f32>, region: &RowMajor<bool>) -> Option<f32>
 /// Multiplies each painted pixel of `layer` (alpha > 0) by the photo's
 /// luminance over `l_wall`.
 pub fn modulate(layer: &mut RgbaImage, photo: &Photo, l_wall: f32) {
+    each_painted(layer, photo, |_, _, px, l| {
+        let gain = (l / l_wall).min(MAX_GAIN);
+        for c in &mut px[..3] {
+            *c = crate::round::to_u8(*c as f32 * gain);
+        }
+    });
+}
+
+/// Calls `f(x, y, pixel, luma)` on each painted pixel of `layer` (alpha >
+/// 0) with the photo's luminance there, rows in parallel (rows with
+/// nothing painted are skipped).
+pub fn each_painted(
+    layer: &mut RgbaImage,
+    photo: &Photo,
+    f: impl Fn(usize, usize, &mut [u8], f32) + Sync,
+) {
     let w = layer.width() as usize;
     layer.par_chunks_mut(w * 4).enumerate().for_each_init(
         || vec![0.0f32; w],
@@ -53,13 +69,9 @@ pub fn modulate(layer: &mut RgbaImage, photo: &Photo, l_wall: f32) {
                 return;
             }
             photo.luma_row(y as u32, line);
-            for (px, l) in row.chunks_exact_mut(4).zip(line.iter()) {
-                if px[3] == 0 {
-                    continue;
-                }
-                let gain = (l / l_wall).min(MAX_GAIN);
-                for c in &mut px[..3] {
-                    *c = crate::round::to_u8(*c as f32 * gain);
+            for (x, (px, l)) in row.chunks_exact_mut(4).zip(line.iter()).enumerate() {
+                if px[3] != 0 {
+                    f(x, y, px, *l);
                 }
             }
         },

@@ -243,26 +243,13 @@ fn cell_colours(photo: &Photo, grid: &Grid) -> [RowMajor<f32>; 3] {
 /// local light's strength and colour and the wall's relief there, its alpha
 /// thicker in the recesses.
 pub fn light(layer: &mut RgbaImage, photo: &Photo, light: &Light) {
-    let w = layer.width() as usize;
-    layer.par_chunks_mut(w * 4).enumerate().for_each_init(
-        || vec![0.0f32; w],
-        |line, (y, row)| {
-            if row.chunks_exact(4).all(|px| px[3] == 0) {
-                return;
-            }
-            photo.luma_row(y as u32, line);
-            for (x, (px, l)) in row.chunks_exact_mut(4).zip(line.iter()).enumerate() {
-                if px[3] == 0 {
-                    continue;
-                }
-                let [r, g, b, l_low] = light.at(x as f32, y as f32);
-                let relief = (l / l_low).clamp(RELIEF_RANGE.0, RELIEF_RANGE.1);
-                for (c, g) in px[..3].iter_mut().zip([r, g, b]) {
-                    *c = crate::round::to_u8(*c as f32 * g * relief);
-                }
-                let thick = (1.0 + RECESS * (1.0 - relief)).clamp(0.6, 1.5);
-                px[3] = crate::round::to_u8(px[3] as f32 * thick);
-            }
-        },
-    );
+    super::each_painted(layer, photo, |x, y, px, l| {
+        let [r, g, b, l_low] = light.at(x as f32, y as f32);
+        let relief = (l / l_low).clamp(RELIEF_RANGE.0, RELIEF_RANGE.1);
+        for (c, g) in px[..3].iter_mut().zip([r, g, b]) {
+            *c = crate::round::to_u8(*c as f32 * g * relief);
+        }
+        let thick = (1.0 + RECESS * (1.0 - relief)).clamp(0.6, 1.5);
+        px[3] = crate::round::to_u8(px[3] as f32 * thick);
+    });
 }
