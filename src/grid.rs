@@ -113,6 +113,44 @@ impl Grid {
         out
     }
 
+    /// Area-averaged R, G and B on the grid (as [`Grid::luma`]).
+    pub fn rgb(&self, photo: &Photo) -> [RowMajor<f32>; 3] {
+        let (w, h) = (self.width, self.height);
+        let columns: Vec<(usize, usize)> = (0..w)
+            .map(|gx| {
+                let (a, b) = self.cell_span(gx, self.x0, self.box_w, w);
+                (a as usize, b as usize)
+            })
+            .collect();
+        let rows: Vec<Vec<[f32; 3]>> = (0..h)
+            .into_par_iter()
+            .map(|gy| {
+                let (ya, yb) = self.cell_span(gy, self.y0, self.box_h, h);
+                let mut line = vec![[0.0f32; 3]; photo.width() as usize];
+                let mut acc = vec![[0.0f32; 3]; w];
+                for y in ya..yb {
+                    photo.rgb_row(y, &mut line);
+                    for (a, &(xa, xb)) in acc.iter_mut().zip(&columns) {
+                        for c in &line[xa..xb] {
+                            for i in 0..3 {
+                                a[i] += c[i];
+                            }
+                        }
+                    }
+                }
+                let n = (yb - ya) as usize;
+                acc.iter()
+                    .zip(&columns)
+                    .map(|(a, &(xa, xb))| a.map(|v| v / ((xb - xa) * n).max(1) as f32))
+                    .collect()
+            })
+            .collect();
+        [0, 1, 2].map(|i| {
+            let data = rows.iter().flat_map(|r| r.iter().map(|c| c[i])).collect();
+            RowMajor::new(w, h, data)
+        })
+    }
+
     /// The region on the grid: a cell is wall when at least half its photo
     /// pixels are (all cells without a mask).
     pub fn region(&self, mask: Option<&GrayImage>) -> RowMajor<bool> {

@@ -81,6 +81,36 @@ impl Photo {
         }
     }
 
+    /// Row `y` as R, G and B in 0..255, written to `out` (length = width).
+    pub fn rgb_row(&self, y: u32, out: &mut [[f32; 3]]) {
+        fn fill<T: Copy + Into<f32>>(row: &[T], channels: usize, scale: f32, out: &mut [[f32; 3]]) {
+            for (o, p) in out.iter_mut().zip(row.chunks_exact(channels)) {
+                *o = [
+                    p[0].into() * scale,
+                    p[1].into() * scale,
+                    p[2].into() * scale,
+                ];
+            }
+        }
+        let w = self.width() as usize;
+        let y = y as usize;
+        match &self.image {
+            DynamicImage::ImageRgb8(i) => {
+                fill(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0, out)
+            }
+            DynamicImage::ImageRgba8(i) => {
+                fill(&i.as_raw()[y * w * 4..(y + 1) * w * 4], 4, 1.0, out)
+            }
+            DynamicImage::ImageRgb16(i) => {
+                fill(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0 / 257.0, out)
+            }
+            DynamicImage::ImageRgba16(i) => {
+                fill(&i.as_raw()[y * w * 4..(y + 1) * w * 4], 4, 1.0 / 257.0, out)
+            }
+            _ => unreachable!("Photo::new normalises the layout"),
+        }
+    }
+
     /// The colour at `(x, y)`, 0..255 per channel.
     pub fn rgb_at(&self, x: u32, y: u32) -> [f32; 3] {
         match &self.image {

@@ -22,7 +22,7 @@
 //! The relief also thickens a colony in the recesses (a joint holds water
 //! and the spores, `how-facades-age.md`) and thins it on the proud parts.
 
-use image::{DynamicImage, RgbaImage};
+use image::RgbaImage;
 use rayon::prelude::*;
 
 use crate::effects::box_mean::box_mean;
@@ -102,7 +102,7 @@ impl Light {
     /// The light of `photo` over the wall cells of `grid`; the local light
     /// is the mean over `radius` cells either side.
     pub fn of(photo: &Photo, grid: &Grid, region: &RowMajor<bool>, radius: usize) -> Light {
-        let rgb = cell_colours(photo, grid);
+        let rgb = grid.rgb(photo);
         let wall_luma: Vec<f32> = (0..grid.width * grid.height)
             .filter(|i| region.data()[*i])
             .map(|i| luma([0, 1, 2].map(|c| rgb[c].data()[i])))
@@ -162,81 +162,6 @@ impl Light {
             false => self.fallback,
         }
     }
-}
-
-/// Row `y` of the photo as R, G, B in 0..255 (as `Photo::luma_row`).
-fn rgb_row(photo: &Photo, y: u32, out: &mut [[f32; 3]]) {
-    fn fill<T: Copy + Into<f32>>(row: &[T], channels: usize, scale: f32, out: &mut [[f32; 3]]) {
-        for (o, p) in out.iter_mut().zip(row.chunks_exact(channels)) {
-            *o = [
-                p[0].into() * scale,
-                p[1].into() * scale,
-                p[2].into() * scale,
-            ];
-        }
-    }
-    let w = photo.width() as usize;
-    let y = y as usize;
-    match photo.image() {
-        DynamicImage::ImageRgb8(i) => fill(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0, out),
-        DynamicImage::ImageRgba8(i) => fill(&i.as_raw()[y * w * 4..(y + 1) * w * 4], 4, 1.0, out),
-        DynamicImage::ImageRgb16(i) => {
-            fill(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0 / 257.0, out)
-        }
-        DynamicImage::ImageRgba16(i) => {
-            fill(&i.as_raw()[y * w * 4..(y + 1) * w * 4], 4, 1.0 / 257.0, out)
-        }
-        // `Photo::new` normalises the layout to one of the four above.
-        other => {
-            let rgb = other.to_rgb8();
-            fill(&rgb.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0, out)
-        }
-    }
-}
-
-/// Area-averaged R, G and B per grid cell.
-fn cell_colours(photo: &Photo, grid: &Grid) -> [RowMajor<f32>; 3] {
-    let (w, h) = (grid.width, grid.height);
-    let span = |g: usize, origin: u32, len: u32, cells: usize| {
-        let a = origin + ((g as f32 * grid.scale) as u32).min(len - 1);
-        let b = match g + 1 == cells {
-            true => origin + len,
-            false => origin + (((g + 1) as f32 * grid.scale) as u32).clamp(a - origin + 1, len),
-        };
-        (a, b)
-    };
-    let columns: Vec<(usize, usize)> = (0..w)
-        .map(|gx| {
-            let (a, b) = span(gx, grid.x0, grid.box_w, w);
-            (a as usize, b as usize)
-        })
-        .collect();
-    let rows: Vec<Vec<[f32; 3]>> = (0..h)
-        .into_par_iter()
-        .map(|gy| {
-            let (ya, yb) = span(gy, grid.y0, grid.box_h, h);
-            let mut line = vec![[0.0f32; 3]; photo.width() as usize];
-            let mut acc = vec![[0.0f32; 3]; w];
-            for y in ya..yb {
-                rgb_row(photo, y, &mut line);
-                for (a, &(xa, xb)) in acc.iter_mut().zip(&columns) {
-                    for c in &line[xa..xb] {
-                        for i in 0..3 {
-                            a[i] += c[i];
-                        }
-                    }
-                }
-            }
-            acc.iter()
-                .zip(&columns)
-                .map(|(a, &(xa, xb))| a.map(|v| v / ((xb - xa) * (yb - ya) as usize).max(1) as f32))
-                .collect()
-        })
-        .collect();
-    [0, 1, 2].map(|i| {
-        let data = rows.iter().flat_map(|r| r.iter().map(|c| c[i])).collect();
-        RowMajor::new(w, h, data)
-    })
 }
 
 /// Lights each painted pixel of `layer` (alpha > 0): its colour times the
