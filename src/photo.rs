@@ -56,57 +56,56 @@ impl Photo {
     /// Luma B(p) in 0..255 (Rec. 601 weights) of row `y`, written to `out`
     /// (length = width).
     pub fn luma_row(&self, y: u32, out: &mut [f32]) {
-        fn fill<T: Copy + Into<f32>>(row: &[T], channels: usize, scale: f32, out: &mut [f32]) {
-            for (o, p) in out.iter_mut().zip(row.chunks_exact(channels)) {
-                let (r, g, b): (f32, f32, f32) = (p[0].into(), p[1].into(), p[2].into());
+        self.each_in_row(y, |x, [r, g, b], scale| {
+            if let Some(o) = out.get_mut(x) {
                 *o = (0.299 * r + 0.587 * g + 0.114 * b) * scale;
             }
-        }
-        let w = self.width() as usize;
-        let y = y as usize;
-        match &self.image {
-            DynamicImage::ImageRgb8(i) => {
-                fill(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0, out)
-            }
-            DynamicImage::ImageRgba8(i) => {
-                fill(&i.as_raw()[y * w * 4..(y + 1) * w * 4], 4, 1.0, out)
-            }
-            DynamicImage::ImageRgb16(i) => {
-                fill(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0 / 257.0, out)
-            }
-            DynamicImage::ImageRgba16(i) => {
-                fill(&i.as_raw()[y * w * 4..(y + 1) * w * 4], 4, 1.0 / 257.0, out)
-            }
-            _ => unreachable!("Photo::new normalises the layout"),
-        }
+        });
     }
 
     /// Row `y` as R, G and B in 0..255, written to `out` (length = width).
     pub fn rgb_row(&self, y: u32, out: &mut [[f32; 3]]) {
-        fn fill<T: Copy + Into<f32>>(row: &[T], channels: usize, scale: f32, out: &mut [[f32; 3]]) {
-            for (o, p) in out.iter_mut().zip(row.chunks_exact(channels)) {
-                *o = [
-                    p[0].into() * scale,
-                    p[1].into() * scale,
-                    p[2].into() * scale,
-                ];
+        self.each_in_row(y, |x, [r, g, b], scale| {
+            if let Some(o) = out.get_mut(x) {
+                *o = [r * scale, g * scale, b * scale];
+            }
+        });
+    }
+
+    /// Calls `f(x, [r, g, b], scale)` for each pixel of row `y`, with the
+    /// channels as stored and the scale that takes them to 0..255.
+    fn each_in_row(&self, y: u32, mut f: impl FnMut(usize, [f32; 3], f32)) {
+        fn walk<T: Copy + Into<f32>>(
+            row: &[T],
+            channels: usize,
+            scale: f32,
+            f: &mut impl FnMut(usize, [f32; 3], f32),
+        ) {
+            for (x, p) in row.chunks_exact(channels).enumerate() {
+                f(x, [p[0].into(), p[1].into(), p[2].into()], scale);
             }
         }
         let w = self.width() as usize;
         let y = y as usize;
         match &self.image {
             DynamicImage::ImageRgb8(i) => {
-                fill(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0, out)
+                walk(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0, &mut f)
             }
             DynamicImage::ImageRgba8(i) => {
-                fill(&i.as_raw()[y * w * 4..(y + 1) * w * 4], 4, 1.0, out)
+                walk(&i.as_raw()[y * w * 4..(y + 1) * w * 4], 4, 1.0, &mut f)
             }
-            DynamicImage::ImageRgb16(i) => {
-                fill(&i.as_raw()[y * w * 3..(y + 1) * w * 3], 3, 1.0 / 257.0, out)
-            }
-            DynamicImage::ImageRgba16(i) => {
-                fill(&i.as_raw()[y * w * 4..(y + 1) * w * 4], 4, 1.0 / 257.0, out)
-            }
+            DynamicImage::ImageRgb16(i) => walk(
+                &i.as_raw()[y * w * 3..(y + 1) * w * 3],
+                3,
+                1.0 / 257.0,
+                &mut f,
+            ),
+            DynamicImage::ImageRgba16(i) => walk(
+                &i.as_raw()[y * w * 4..(y + 1) * w * 4],
+                4,
+                1.0 / 257.0,
+                &mut f,
+            ),
             _ => unreachable!("Photo::new normalises the layout"),
         }
     }
