@@ -8,6 +8,7 @@
 
 use super::features::{Features, box_mean, l1};
 use super::ledge_kinds::{crosses_a_frame, glass_below, kind_of, recovery, tops_a_window};
+use super::silhouette;
 use super::wall::Class;
 use super::{Ledge, LedgeKind, courses, laps};
 
@@ -167,7 +168,10 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
     if class.iter().all(|&c| c == Class::Wall) {
         lines.retain(|fit| fit.span() >= 0.25 * w as f32);
     }
-    let lines = suppress(lines, h);
+    let lines: Vec<Fit> = suppress(lines, h)
+        .into_iter()
+        .filter_map(|fit| off_a_silhouette(&l, f, fit))
+        .collect();
     // Where steps of the wall's tone start, and how sure they are left.
     let mut doubts = Vec::new();
     // Where lines that are one lap of a lapped wall start (see `laps`).
@@ -312,6 +316,27 @@ fn alone(ledges: &[Ledge], i: usize, storey: f32, w: usize, h: usize) -> bool {
                 .iter()
                 .any(|s| (yo - (y + s)).abs() < near)
     })
+}
+
+/// `fit` with each end taken back off the silhouette of a surface in
+/// front slanting in under it ([`silhouette::end_before`]), or None when
+/// too little is left (under [`trace`]'s least length).
+fn off_a_silhouette(l: &[f32], f: &Features, mut fit: Fit) -> Option<Fit> {
+    let p = silhouette::Planes {
+        l,
+        rgb: &f.rgb,
+        w: f.w,
+        h: f.h,
+    };
+    let (x0, x1) = (fit.x0, fit.x1);
+    if let Some(x) = silhouette::end_before(&p, x1, fit.y_at(x1), true) {
+        fit.x1 = fit.x1.min(x.floor());
+    }
+    if let Some(x) = silhouette::end_before(&p, x0, fit.y_at(x0), false) {
+        fit.x0 = fit.x0.max(x.ceil());
+    }
+    let trimmed = (fit.x0, fit.x1) != (x0, x1);
+    (!trimmed || fit.span() >= (0.03 * f.w as f32).max(8.0)).then_some(fit)
 }
 
 /// Follows edge pixels left to right, one row of jitter per column and

@@ -39,6 +39,7 @@ mod perspective;
 mod plane;
 mod scale;
 pub mod shelter;
+mod silhouette;
 mod sky_windows;
 pub mod synthetic;
 mod things;
