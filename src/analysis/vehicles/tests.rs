@@ -241,3 +241,78 @@ fn a_pale_car_parked_near_the_camera_is_not_wall_but_a_red_body_as_tall_is() {
     let red = near_car_share([200, 30, 34]);
     assert!(red > 0.9, "{red} of the red body is wall");
 }
+
+/// [`street_share`] with a white box over columns 50..210 down to row
+/// 150 from row `top`, crossed by two pressed ribs; `under` (down from
+/// row 150, 14 rows) is drawn under it when it is `Some`: a van's black
+/// skirt and shade, standing on the road past the wall's foot (row 140).
+/// With none, and the box down to the foot instead, a garage door.
+fn white_box_share(
+    top: u32,
+    bottom: u32,
+    under: Option<[u8; 3]>,
+    cols: (usize, usize),
+    rows: (usize, usize),
+) -> f32 {
+    let front = |x: u32, y: u32, _grain| {
+        if !(50..210).contains(&x) {
+            return None;
+        }
+        if (top..bottom).contains(&y) {
+            let rib = y == top + 20 || y == top + 21 || y == top + 45 || y == top + 46;
+            Some(if rib {
+                [190, 192, 196]
+            } else {
+                [236, 238, 240]
+            })
+        } else {
+            under.filter(|_| (bottom..bottom + 14).contains(&y))
+        }
+    };
+    street_share(front, cols, rows)
+}
+
+#[test]
+fn a_white_garage_door_or_fascia_in_the_wall_stays_wall() {
+    // The same white box down to the wall's foot, the pavement under
+    // it: a garage door flush in the wall.
+    let door = white_box_share(60, 140, None, (54, 206), (62, 136));
+    assert!(door > 0.9, "{door} of the garage door is wall");
+    // A white fascia over a dark shop opening down to the foot: dark
+    // under its lower edge, but the ground is a storey further down.
+    let fascia = white_box_share(60, 100, Some([30, 30, 34]), (54, 206), (62, 98));
+    assert!(fascia > 0.9, "{fascia} of the fascia is wall");
+}
+
+#[test]
+fn a_van_carries_no_ledge() {
+    let (w, h) = (480u32, 400u32);
+    let img = image::RgbImage::from_fn(w, h, |x, y| {
+        let grain = ((x * 7 + y * 13) % 5) as u8;
+        let van = (100..420).contains(&x);
+        image::Rgb(if van && (120..300).contains(&y) {
+            let rib = (160..164).contains(&y) || (210..214).contains(&y);
+            if rib {
+                [190, 192, 196]
+            } else {
+                [236, 238, 240]
+            }
+        } else if van && (300..328).contains(&y) {
+            [20, 20, 22]
+        } else if y < 280 {
+            [205 + grain, 190, 168]
+        } else {
+            let v = if (x + y) % 16 < 8 { 112 } else { 96 };
+            [v, v, v + 4]
+        })
+    });
+    let photo = Photo::new(image::DynamicImage::ImageRgb8(img));
+    let a = crate::analysis::analyse(&photo, &crate::analysis::Options::default()).unwrap();
+    let on_van = |p: &[f32; 2]| (104.0..416.0).contains(&p[0]) && (124.0..296.0).contains(&p[1]);
+    let ledges = a
+        .ledges
+        .iter()
+        .filter(|l| l.polyline.iter().any(on_van))
+        .count();
+    assert_eq!(ledges, 0, "{ledges} ledges on the van");
+}
