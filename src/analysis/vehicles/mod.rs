@@ -334,8 +334,15 @@ fn on_the_kerb(f: &Features, class: &mut [Class]) {
 /// shop front or a plinth is short but stands up (jambs, mullions), a
 /// car's lines lie level (roof, windows, sills, bumper, shadow). A piece
 /// [`capped`] by a thin seam with more of the same over it is the foot of
-/// something taller, cut off by a line another rule drew.
+/// something taller, cut off by a line another rule drew. Then the vans
+/// ([`vans::take`]): taller than a car, their upper body is left wall.
 pub(super) fn short_pieces(f: &Features, class: &mut [Class]) {
+    cars(f, class);
+    vans::take(f, class);
+}
+
+/// The short pieces of [`short_pieces`].
+fn cars(f: &Features, class: &mut [Class]) {
     let (w, h) = (f.w, f.h);
     let short = if street(f, class) {
         SHORT_IN_STREET
@@ -602,3 +609,4 @@ fn median(colours: impl Iterator<Item = [f32; 3]>, c: &mut [Vec<f32>; 3]) -> Opt
 
 #[cfg(test)]
 mod tests;
+mod vans;
