@@ -250,6 +250,17 @@ fn spread_cols(mask: &[bool], w: usize, r: usize) -> Vec<bool> {
 /// The 4-connected components of `mask`, each as its pixel indices, in
 /// raster order of their first pixel.
 pub(super) fn components(mask: &[bool], w: usize, h: usize) -> Vec<Vec<usize>> {
+    components_joined(mask, w, h, |_, _| true)
+}
+
+/// [`components`] where two neighbours of `mask` join only when
+/// `joins(i, j)` (e.g. their colours are close).
+pub(super) fn components_joined(
+    mask: &[bool],
+    w: usize,
+    h: usize,
+    joins: impl Fn(usize, usize) -> bool,
+) -> Vec<Vec<usize>> {
     let mut seen = vec![false; w * h];
     let mut out = Vec::new();
     for start in 0..w * h {
@@ -263,7 +274,7 @@ pub(super) fn components(mask: &[bool], w: usize, h: usize) -> Vec<Vec<usize>> {
             let i = members[k];
             k += 1;
             neighbours(i, w, h).for_each(|j| {
-                if mask[j] && !seen[j] {
+                if mask[j] && !seen[j] && joins(i, j) {
                     seen[j] = true;
                     members.push(j);
                 }

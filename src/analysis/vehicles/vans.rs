@@ -18,6 +18,7 @@
 //! body's panel and the dark strip under it are read instead.]
 
 use super::super::features::{Features, box_mean, l1, luma};
+use super::super::glass::components_joined;
 use super::super::wall::Class;
 use super::median;
 
@@ -109,7 +110,8 @@ pub(super) fn take(f: &Features, class: &mut [Class]) {
     let smooth: Vec<bool> = (0..w * h)
         .map(|i| matches!(class[i], Class::Wall | Class::Ground) && f.texture[i] < SMOOTH)
         .collect();
-    let panels = panels(f, &smooth);
+    // The smooth pixels' 4-connected pieces whose steps stay under STEP.
+    let panels = components_joined(&smooth, w, h, |i, j| l1(f.rgb_at(i), f.rgb_at(j)) < STEP);
     let mut label = vec![usize::MAX; w * h];
     for (k, p) in panels.iter().enumerate() {
         p.iter().for_each(|&i| label[i] = k);
@@ -132,33 +134,6 @@ pub(super) fn take(f: &Features, class: &mut [Class]) {
     for body in bodies {
         body.iter().for_each(|&i| class[i] = Class::Ground);
     }
-}
-
-/// The smooth pixels' 4-connected pieces whose steps stay under [`STEP`].
-fn panels(f: &Features, smooth: &[bool]) -> Vec<Vec<usize>> {
-    let (w, h) = (f.w, f.h);
-    let mut seen = vec![false; w * h];
-    let mut out = Vec::new();
-    for start in 0..w * h {
-        if !smooth[start] || seen[start] {
-            continue;
-        }
-        seen[start] = true;
-        let mut members = vec![start];
-        let mut k = 0;
-        while k < members.len() {
-            let i = members[k];
-            k += 1;
-            for j in super::super::neighbours(i, w, h) {
-                if smooth[j] && !seen[j] && l1(f.rgb_at(i), f.rgb_at(j)) < STEP {
-                    seen[j] = true;
-                    members.push(j);
-                }
-            }
-        }
-        out.push(members);
-    }
-    out
 }
 
 /// The body: `seed` (an index into `panels`) and the panels of its paint
