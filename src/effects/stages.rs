@@ -355,9 +355,9 @@ impl<'a> Stainer<'a> {
                 texture.apply(cover);
             }
             if preset.stain.wall_hue > 0.0 {
-                let soak = self.soak.get_or_insert_with(|| {
-                    rain::soak::Soak::new(ctx, preset.seed, preset.stain.opacity)
-                });
+                let soak = self
+                    .soak
+                    .get_or_insert_with(|| rain::soak::Soak::new(ctx, preset.seed));
                 let (w, h) = ctx.size();
                 let mut alpha = ctx.grid.upsample(cover, None, w, h);
                 soak.lay(&mut alpha, ctx.mask);
