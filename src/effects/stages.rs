@@ -208,9 +208,9 @@ struct Stainer<'a> {
     /// The stains' grain and run-out ([`rain::texture`]), made for the
     /// first rainfall; `None` when both are off.
     texture: Option<Option<rain::texture::Texture>>,
-    /// Where a deposit settles ([`rain::deposit::catch`]), made for the
-    /// first rainfall when the dirt is a deposit (`stain.wall_hue`).
-    catch: Option<GrayImage>,
+    /// Where a deposit shows ([`rain::soak`]), made for the first
+    /// rainfall when the dirt is a deposit (`stain.wall_hue`).
+    soak: Option<rain::soak::Soak>,
 }
 
 impl<'a> Stainer<'a> {
@@ -293,7 +293,7 @@ impl<'a> Stainer<'a> {
             gain,
             soot: None,
             texture: None,
-            catch: None,
+            soak: None,
         }
     }
 
@@ -355,9 +355,13 @@ impl<'a> Stainer<'a> {
                 texture.apply(cover);
             }
             if preset.stain.wall_hue > 0.0 {
-                let catch = self.catch.get_or_insert_with(|| rain::deposit::catch(ctx));
+                let soak = self
+                    .soak
+                    .get_or_insert_with(|| rain::soak::Soak::new(ctx, preset.seed));
                 let (w, h) = ctx.size();
-                return ctx.grid.upsample(cover, Some(catch), w, h);
+                let mut alpha = ctx.grid.upsample(cover, None, w, h);
+                soak.lay(&mut alpha, ctx.mask);
+                return alpha;
             }
         } else if self.gain.is_some() {
             rain::stain::scale(cover, &self.scale);

@@ -120,60 +120,15 @@ pub fn colors(ctx: &Context, dirt: [u8; 3], wall_hue: f32) -> RgbImage {
     rgb
 }
 
-/// How much less of the deposit a pixel lighter than its neighbours
-/// catches, per unit of its relative lightness [choice: dirt settles in the
-/// pores, joints and shadowed laps first and the proud, lit surface holds
-/// less, so a deposit's edge breaks up along the grain instead of fading
-/// evenly; tried 0.5, 1 and 2 on six LabelMeFacade street photos (see
-/// BENCHMARKS.md): at 2 thin stains read as a pattern of specks].
-pub const RECESS: f32 = 0.5;
-
-/// The window the grain's lightness is measured against, metres (half its
-/// side), at least [`GRAIN_MIN_PX`] photo pixels.
-const GRAIN_M: f32 = 0.03;
-
-/// The smallest grain window, photo pixels.
-const GRAIN_MIN_PX: f32 = 2.0;
-
-/// Per photo pixel, the share of a rain layer's coverage it catches, times
-/// the region's mask (255 = all of it, 0 outside the region): 1 -
-/// [`RECESS`] times how much lighter than its neighbourhood (within
-/// [`GRAIN_M`]) the pixel is, relative to the neighbourhood. Pixels as dark
-/// as their neighbours or darker catch all; only ever less than the mask, so
-/// a pixel outside the region stays untouched.
-pub fn catch(ctx: &Context) -> GrayImage {
-    let (w, h) = ctx.size();
-    let (wu, hu) = (w as usize, h as usize);
-    let mut luma = vec![0.0f32; wu * hu];
-    luma.par_chunks_mut(wu.max(1))
-        .enumerate()
-        .for_each(|(y, row)| ctx.photo.luma_row(y as u32, row));
-    let radius = ctx.photo_px(GRAIN_M).max(GRAIN_MIN_PX).round() as usize;
-    let local = box_blur(&luma, wu, hu, radius);
-    let mut out = GrayImage::new(w, h);
-    out.par_chunks_mut(wu.max(1))
-        .enumerate()
-        .for_each(|(y, row)| {
-            let mask = ctx.mask.map(|m| &m.as_raw()[y * wu..(y + 1) * wu]);
-            let (l, m) = (&luma[y * wu..][..wu], &local[y * wu..][..wu]);
-            for (x, o) in row.iter_mut().enumerate() {
-                let lighter = ((l[x] - m[x]) / m[x].max(1.0)).clamp(0.0, 1.0);
-                let weight = mask.map_or(255.0, |m| f32::from(m[x]));
-                *o = (weight * (1.0 - RECESS * lighter).max(0.0)).round() as u8;
-            }
-        });
-    out
-}
-
 /// Rows a task of [`box_blur`] slides its window down.
 const STRIP: usize = 64;
 
 /// The mean of `values` (`w` x `h`, row-major) over the square window
 /// `radius` either side, clipped at the borders: a running sum along each
 /// row, then a window of row sums slid down strips of rows (the photo-size
-/// grain map, where [`crate::effects::box_mean::box_mean`]'s region
+/// maps of [`super::soak`], where [`crate::effects::box_mean::box_mean`]'s region
 /// counts are not needed).
-fn box_blur(values: &[f32], w: usize, h: usize, radius: usize) -> Vec<f32> {
+pub(super) fn box_blur(values: &[f32], w: usize, h: usize, radius: usize) -> Vec<f32> {
     let mut rows = vec![0.0f32; w * h];
     rows.par_chunks_mut(w.max(1))
         .zip(values.par_chunks(w.max(1)))

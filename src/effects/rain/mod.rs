@@ -10,6 +10,7 @@ pub mod droplets;
 pub mod fall;
 pub mod habit;
 pub mod regrid;
+pub mod soak;
 pub mod soot;
 pub mod sources;
 pub mod stain;
