@@ -528,9 +528,21 @@ fn means(all: &[[f32; 3]]) -> [f32; 3] {
 /// dirt film saturates the band under it, so its top is wide) 80.6 / 67.6
 /// / 35.5, now 103.2 / 95.3 / 56.4; over 0.3 of it 34.2 / 27.7 / 14.9, now
 /// 41.2 / 40.7 / 8.0 (the end fainter: the same ink over a wider wash).
+///
+/// The widths are the fall's own (`fall.rs`), measured with the dirt
+/// multiplied (`stain.wall_hue = 0`): with the deposit, `rain::soak`
+/// shows a thin stain only in the wall's recesses, so the layers' alphas
+/// are no longer the fall's coverage (thirty-second pass: 23.0 / 29.8 /
+/// 28.3 over half the row's darkest with the soak).
 #[test]
 fn streaks_widen_downward_not_to_a_tip() {
-    let inks: Vec<Vec<f32>> = [1, 2, 3].into_iter().map(ink).collect();
+    let multiplied = |seed| {
+        ink_of(run_ledge(40, seed, None, |p| {
+            p.rain.uneven = Preset::default().rain.uneven;
+            p.stain.wall_hue = 0.0;
+        }))
+    };
+    let inks: Vec<Vec<f32>> = [1, 2, 3].into_iter().map(multiplied).collect();
     let total: f32 = inks.iter().flatten().sum();
     let all: Vec<Widths> = inks.iter().flat_map(|i| widths(i)).collect();
     let a03 = means(&all.iter().map(|w| w.at_03).collect::<Vec<_>>());
