@@ -1,11 +1,10 @@
 //! Thin dirt soaks into a brick wall's joints first; only thick dirt
 //! covers the brick's face (`src/effects/rain/soak.rs`).
 
-use grime::photo::Photo;
-use grime::pipeline::{self, Scene, Site};
-use grime::preset::Preset;
-use grime::progress::Progress;
-use image::{DynamicImage, Rgb, RgbImage};
+mod common;
+
+use common::wall::{luma, rain_on_photo};
+use image::{Rgb, RgbImage};
 
 /// Whether (x, y) is a mortar joint of a stretcher bond at 1 cm a pixel:
 /// bricks 20 x 6 px, joints 1 px, every other course offset by half.
@@ -29,29 +28,17 @@ fn darkening(layers: u32, strength: f32) -> (f32, f32) {
         true => Rgb([92, 80, 74]),
         false => Rgb([158, 86, 64]),
     });
-    let scene = Scene::new(Photo::new(DynamicImage::ImageRgb8(photo.clone())), None)
-        .unwrap()
-        .with_site(Site {
-            metres_per_pixel: 0.01,
-            ..Site::assumed(400)
-        })
-        .unwrap();
-    let mut p = Preset::default();
-    p.moss.enabled = false;
-    p.dust.enabled = false;
-    p.rain.top_edge = false;
-    p.rain.layers = layers;
-    p.rain.source_lines = vec![vec![[10.0, 40.0], [390.0, 40.0]]];
-    p.stain.washed_opacity = 0.0;
-    p.stain.soot = 0.0;
-    p.stain.strength = strength;
-    let out = pipeline::run(&scene, &p, &Progress::none()).unwrap();
+    let line = vec![[10.0, 40.0], [390.0, 40.0]];
+    let out = rain_on_photo(photo.clone(), vec![line], None, (layers, 1), |p| {
+        p.stain.washed_opacity = 0.0;
+        p.stain.soot = 0.0;
+        p.stain.strength = strength;
+    });
     let aged = out.stack.composite().to_rgb8();
-    let luma = |p: &Rgb<u8>| 0.299 * p[0] as f32 + 0.587 * p[1] as f32 + 0.114 * p[2] as f32;
     let d: Vec<f32> = photo
         .pixels()
         .zip(aged.pixels())
-        .map(|(a, b)| luma(a) - luma(b))
+        .map(|(a, b)| luma(&a.0) - luma(&b.0))
         .collect();
     // Where the stain is at its thickest: the mean darkening over 21 x 21
     // px (a brick and its joints) at least 0.6 of its most.
