@@ -37,6 +37,7 @@ mod matte;
 mod overlay;
 mod perspective;
 mod plane;
+mod roof;
 mod scale;
 pub mod shelter;
 mod silhouette;
