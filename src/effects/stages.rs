@@ -233,7 +233,8 @@ impl<'a> Stainer<'a> {
             .enumerate()
             .map(|(i, line)| {
                 let len = rain::sources::Source::line(rain::padded(line)).length();
-                twins.warp(i, rain::sources::line_warp(preset.seed, i, len, &release))
+                let key = rain::sources::line_key(line);
+                twins.warp(i, rain::sources::line_warp(preset.seed, key, len, &release))
             })
             .collect();
         let ledges: Vec<_> = lines

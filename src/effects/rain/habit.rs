@@ -169,7 +169,7 @@ mod twin_sills {
     /// its ink, the share of the droplets starting there times their
     /// streak's strength.
     fn profile(seed: u64, line: usize, z: f32, habits: bool) -> Vec<f32> {
-        let warp = line_warp(seed, line, LEN, &release(habits))
+        let warp = line_warp(seed, line as u64 + 1, LEN, &release(habits))
             .map(|w| w.in_family(z))
             .expect("a sill with drip points");
         // Where a rainfall's droplets start (uniform positions through the

@@ -255,11 +255,20 @@ pub fn simulate_keeping(
     // length times how open it is, so droplets start less often on a
     // ledge under a balcony or an eave.
     let top = usize::from(p.top_edge && sources.len() > input.source_lines.len());
+    // Each source's own key: its draws do not change when another source
+    // comes or goes.
+    let keys: Vec<u64> = (0..sources.len())
+        .map(|i| match i.checked_sub(top) {
+            Some(line) => sources::line_key(&input.source_lines[line]),
+            None => 0,
+        })
+        .collect();
     let warps = sources
         .iter()
+        .zip(&keys)
         .enumerate()
-        .map(|(i, s)| match i.checked_sub(top) {
-            Some(line) => sources::line_warp(seed, line, s.length(), &input.release),
+        .map(|(i, (s, &key))| match i.checked_sub(top) {
+            Some(_) => sources::line_warp(seed, key, s.length(), &input.release),
             None => sources::top_warp(seed, s.length(), &input.release),
         })
         .collect();
@@ -271,18 +280,20 @@ pub fn simulate_keeping(
             s.length() * catch.copied().unwrap_or(1.0).clamp(0.0, 1.0)
         })
         .collect();
-    let clouds = Clouds {
-        total_len: spans.iter().sum(),
-        spans,
-        sources,
-        warps,
-        p,
-        seed,
-    };
-    let n = if clouds.total_len > 0.0 {
+    let total_len: f32 = spans.iter().sum();
+    let n = if total_len > 0.0 {
         droplet_count(p, width) as usize
     } else {
         0
+    };
+    let clouds = Clouds {
+        owners: owners(seed, &spans, &keys, n),
+        spans,
+        sources,
+        warps,
+        keys,
+        p,
+        seed,
     };
     let laws = Laws::new(p);
     let rounds = p.diffusion_rounds.max(1) as usize;
@@ -482,10 +493,62 @@ struct Clouds<'a> {
     spans: Vec<f32>,
     /// Each source's release points ([`Warp`]); `None` = uniform.
     warps: Vec<Option<Warp>>,
-    /// The spans' total.
-    total_len: f32,
+    /// Each source's key ([`sources::line_key`]; 0 for the top edge).
+    keys: Vec<u64>,
+    /// Droplet k's source and its number there ([`owners`]).
+    owners: Vec<(usize, u64)>,
     p: &'a RainParams,
     seed: u64,
+}
+
+/// The source and the number there of each of `n` droplets, in the order
+/// they run: [choice, beyond Chang, who draws every droplet's start along
+/// all sources joined end to end:] each source gets its share of the
+/// droplets by its span (largest remainder), and droplet j of a source
+/// draws from a stream of its own (the source's key and j), so a source
+/// added or dropped elsewhere (a ledge found or drawn) leaves the others'
+/// droplets where they were (blind check p77 judged a streak that moved
+/// when a roof line was found across the photo). The droplets run in the
+/// order of a seeded time each, so a source's droplets spread over all of
+/// a rainfall's diffusion rounds as before.
+fn owners(seed: u64, spans: &[f32], keys: &[u64], n: usize) -> Vec<(usize, u64)> {
+    let total: f32 = spans.iter().sum();
+    if total <= 0.0 || n == 0 {
+        return Vec::new();
+    }
+    let share: Vec<f32> = spans.iter().map(|s| n as f32 * s / total).collect();
+    let mut count: Vec<usize> = share.iter().map(|s| s.floor() as usize).collect();
+    let mut rest: Vec<usize> = (0..spans.len()).filter(|&i| spans[i] > 0.0).collect();
+    rest.sort_by(|&a, &b| {
+        let (ra, rb) = (share[a] - share[a].floor(), share[b] - share[b].floor());
+        rb.total_cmp(&ra)
+            .then(keys[a].cmp(&keys[b]))
+            .then(a.cmp(&b))
+    });
+    let short = n.saturating_sub(count.iter().sum());
+    rest.iter().take(short).for_each(|&i| count[i] += 1);
+    let mut timed: Vec<(u64, usize, u64)> = count
+        .iter()
+        .enumerate()
+        .flat_map(|(i, &c)| {
+            (0..c as u64).map(move |j| {
+                let when = random::key(seed, Stream::Droplet, u64::MAX, keys[i] ^ random::mix(j));
+                (when, i, j)
+            })
+        })
+        .collect();
+    timed.sort_unstable();
+    timed.into_iter().map(|(_, i, j)| (i, j)).collect()
+}
+
+/// `x` folded into `0..=span` by turning back at each end, as a walker
+/// on a segment does: a uniform spread stays uniform.
+fn reflect(x: f32, span: f32) -> f32 {
+    if span <= 0.0 {
+        return 0.0;
+    }
+    let t = x.rem_euclid(2.0 * span);
+    if t > span { 2.0 * span - t } else { t }
 }
 
 impl Clouds<'_> {
@@ -495,12 +558,12 @@ impl Clouds<'_> {
     /// previous rainfall and updated.
     fn droplet(&self, layer: u32, k: usize, start: &mut (f32, f32)) -> Option<(Runner, f32)> {
         let p = self.p;
-        let mut rng = random::rng(self.seed, Stream::Droplet, layer as u64, k as u64);
+        let (si, j) = self.owners[k];
+        let span = self.spans[si];
+        let stream = self.keys[si] ^ random::mix(j);
+        let mut rng = random::rng(self.seed, Stream::Droplet, layer as u64, stream);
         *start = if layer == 0 {
-            (
-                rng.random::<f32>() * self.total_len,
-                rng.random::<f32>() * p.mass_max,
-            )
+            (rng.random::<f32>() * span, rng.random::<f32>() * p.mass_max)
         } else {
             // Chang eqs. (16-17): normal steps from the previous layer's
             // position and mass (independent draws, Box-Muller's two outputs).
@@ -510,15 +573,17 @@ impl Clouds<'_> {
                 (start.1 + p.sigma * z_mass).max(0.0),
             )
         };
-        start.0 = start.0.rem_euclid(self.total_len);
+        // The walk stays on the droplet's own source, turning back at its
+        // ends [choice: Chang wraps over all sources joined end to end].
+        start.0 = reflect(start.0, span);
         if start.1 < p.mass_min {
             return None;
         }
-        let (si, along) = sources::pick(&self.spans, start.0);
+        let along = start.0;
         let source = &self.sources[si];
         // Back from the span to the source's own length (an open source's
         // span is its length: its position is used as it is, bit for bit).
-        let (span, len) = (self.spans[si], source.length());
+        let len = source.length();
         let u = if span == len {
             along
         } else {

@@ -360,11 +360,21 @@ fn sample(table: &[f32], u: f32) -> f32 {
     table[i]
 }
 
-/// The warp of source line `line` (0 = the first of the preset's lines)
-/// `len` grid pixels long, from the rain's own stream: the simulation and
-/// the stain draw the same drip points.
-pub fn line_warp(seed: u64, line: usize, len: f32, release: &Release) -> Option<Warp> {
-    let key = line as u64 + 1;
+/// A source line's own key (grid coordinates, each vertex rounded to the
+/// pixel): the same line gives the same draws whatever other lines there
+/// are ([`super::owners`]); never 0, the top edge's.
+pub fn line_key(line: &[(f32, f32)]) -> u64 {
+    let key = line.iter().fold(0x9e37_79b9_7f4a_7c15u64, |h, &(x, y)| {
+        let (x, y) = (x.round() as i64 as u64, y.round() as i64 as u64);
+        crate::random::mix(crate::random::mix(h ^ x) ^ y)
+    });
+    key.max(1)
+}
+
+/// The warp of a source line with key `key` ([`line_key`]) `len` grid
+/// pixels long, from the rain's own stream: the simulation and the stain
+/// draw the same drip points.
+pub fn line_warp(seed: u64, key: u64, len: f32, release: &Release) -> Option<Warp> {
     let mut rng = crate::random::rng(seed, (crate::effects::Effect::Rain, RELEASE), key, 0);
     let habit = Habit::of(seed, RELEASE, key, release.habits);
     Warp::with_habit(len, release, &habit, &mut rng)
@@ -453,19 +463,6 @@ pub fn top_edge(wall: &Wall) -> Vec<(f32, f32)> {
 
 use super::wall::Wall;
 
-/// Picks the span at cumulative position `u` in `0..sum of spans`: its
-/// index and how far into it `u` lies.
-pub fn pick(spans: &[f32], u: f32) -> (usize, f32) {
-    let mut u = u;
-    for (i, &span) in spans.iter().enumerate() {
-        if (u < span && span > 0.0) || i + 1 == spans.len() {
-            return (i, u.clamp(0.0, span));
-        }
-        u -= span;
-    }
-    (0, 0.0)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -550,15 +547,5 @@ mod tests {
             (60..160).contains(&weak),
             "{weak} of 400 ledges drain under half"
         );
-    }
-
-    #[test]
-    fn pick_splits_by_length() {
-        let s = [10.0, 30.0];
-        assert_eq!(pick(&s, 4.0), (0, 4.0));
-        assert_eq!(pick(&s, 12.0), (1, 2.0));
-        assert_eq!(pick(&s, 100.0), (1, 30.0));
-        // A sheltered source (no span) is never picked.
-        assert_eq!(pick(&[0.0, 5.0], 0.0), (1, 0.0));
     }
 }

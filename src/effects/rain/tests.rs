@@ -450,3 +450,96 @@ fn kept_walls_are_the_shorter_runs() {
         }
     }
 }
+
+#[test]
+fn a_ledge_found_elsewhere_leaves_the_other_ledges_streaks_where_they_were() {
+    // Two ledges on the left half; then a third on the right half. The
+    // streaks under the first two keep their starts: the third takes its
+    // share of the droplets (50 of 140 pixels of ledge) from the end of
+    // each one's own list.
+    let (luma, region) = wall_input(160, 80);
+    let left = vec![
+        vec![(10.0, 20.0), (50.0, 20.0)],
+        vec![(10.0, 45.0), (60.0, 45.0)],
+    ];
+    let run = |lines: Vec<Vec<(f32, f32)>>| {
+        let input = RainInput {
+            luma: &luma,
+            region: &region,
+            source_lines: lines,
+            catch: vec![],
+            release: Release::UNIFORM,
+            washed: false,
+        };
+        let p = RainParams {
+            top_edge: false,
+            droplets: 300,
+            ..one_layer()
+        };
+        let out = simulate(&input, &p, 4, &Progress::none()).unwrap();
+        let mut starts: Vec<(i64, i64)> = out.layers[0]
+            .paths
+            .iter()
+            .filter(|q| q.start.0 < 80.0)
+            .map(|q| ((q.start.0 * 100.0) as i64, (q.start.1 * 100.0) as i64))
+            .collect();
+        starts.sort_unstable();
+        starts
+    };
+    let before = run(left.clone());
+    let mut more = left.clone();
+    more.push(vec![(100.0, 30.0), (150.0, 30.0)]);
+    let after = run(more);
+    let kept = after
+        .iter()
+        .filter(|s| before.binary_search(s).is_ok())
+        .count();
+    assert!(
+        kept as f32 >= 0.95 * after.len() as f32 && after.len() * 5 >= before.len() * 3,
+        "{kept} of {} starts on the left kept ({} before)",
+        after.len(),
+        before.len()
+    );
+}
+
+#[test]
+fn each_source_gets_its_share_of_the_droplets_and_keeps_their_numbers() {
+    let count = |o: &[(usize, u64)], i: usize| o.iter().filter(|d| d.0 == i).count();
+    let two = owners(7, &[10.0, 30.0], &[5, 9], 40);
+    assert_eq!((count(&two, 0), count(&two, 1)), (10, 30));
+    // A sheltered source (no span) gets none.
+    let sheltered = owners(7, &[0.0, 30.0, 10.0], &[3, 5, 9], 41);
+    assert_eq!(count(&sheltered, 0), 0);
+    assert_eq!(sheltered.len(), 41);
+    // A third source: the first two keep droplets 0.. of their own lists.
+    let three = owners(7, &[10.0, 30.0, 40.0], &[5, 9, 11], 40);
+    for i in 0..2 {
+        let mut js: Vec<u64> = three.iter().filter(|d| d.0 == i).map(|d| d.1).collect();
+        js.sort_unstable();
+        assert_eq!(js, (0..js.len() as u64).collect::<Vec<_>>());
+    }
+}
+
+/// A droplet's walk turns back at its source's ends: it stays on the
+/// source, a step past an end lands as far inside, and a uniform spread
+/// of starts stays uniform after many steps (no pile-up at the ends).
+#[test]
+fn a_droplets_walk_turns_back_at_its_sources_ends() {
+    assert_eq!(reflect(-3.0, 10.0), 3.0);
+    assert_eq!(reflect(12.0, 10.0), 8.0);
+    assert_eq!(reflect(25.0, 10.0), 5.0);
+    assert_eq!(reflect(4.0, 0.0), 0.0);
+    let mut rng = crate::random::rng(1, Stream::Droplet, 0, 0);
+    let mut bins = [0usize; 10];
+    for _ in 0..20_000 {
+        let mut x = rng.random::<f32>() * 10.0;
+        for _ in 0..8 {
+            x = reflect(x + 6.0 * crate::random::box_muller(&mut rng).0, 10.0);
+        }
+        assert!((0.0..=10.0).contains(&x), "{x} left the source");
+        bins[(x as usize).min(9)] += 1;
+    }
+    for b in bins {
+        assert!((1_800..2_200).contains(&b), "{bins:?}: not uniform");
+    }
+}

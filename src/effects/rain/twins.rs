@@ -186,7 +186,11 @@ impl Twins {
             .map(|&f| {
                 (size[f] > 1).then(|| {
                     let stream = (crate::effects::Effect::Rain, TWINS);
-                    let mut rng = crate::random::rng(seed, stream, f as u64 + 1, 0);
+                    // Keyed by the family's first line, not its number: a
+                    // ledge found elsewhere does not re-deal the family.
+                    let head: Vec<(f32, f32)> = lines[f].iter().map(|p| (p[0], p[1])).collect();
+                    let key = super::sources::line_key(&head);
+                    let mut rng = crate::random::rng(seed, stream, key, 0);
                     crate::random::box_muller(&mut rng).0
                 })
             })
