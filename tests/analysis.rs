@@ -320,8 +320,12 @@ fn run_leaves_the_sky_alone_unless_told_every_pixel_is_wall() {
         sky_changed(&input, &auto, &sky),
         sky_changed(&input, &full, &sky),
     );
+    // 320 of the 5120 sky pixels (0 found automatically); over 500 until
+    // the thirty-third pass, when the roof line under this scene's sky
+    // began to shed into the coping a few rows below it and its stain no
+    // longer reached up into the sky.
     assert!(
-        in_full > 500,
+        in_full > 200,
         "every pixel is wall: the sky ages too ({in_full})"
     );
     assert!(

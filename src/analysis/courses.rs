@@ -58,7 +58,7 @@ fn span(l: &Ledge) -> (f32, f32) {
 }
 
 /// The polyline's height at `x` (clamped to its ends).
-fn y_at(l: &Ledge, x: f32) -> f32 {
+pub(super) fn y_at(l: &Ledge, x: f32) -> f32 {
     let p = &l.polyline;
     if x <= p[0][0] {
         return p[0][1];

@@ -246,7 +246,7 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
             l.confidence = (l.confidence * k).max(0.05);
         }
     }
-    out
+    roof::shed_into_ledges(out, w, h)
 }
 
 /// True when the line is a window head over glass or standing on a

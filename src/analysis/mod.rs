@@ -28,6 +28,7 @@ pub mod foot_line;
 mod glass;
 mod ground;
 mod joints;
+mod lamps;
 mod laps;
 mod lawn;
 mod ledge_kinds;
