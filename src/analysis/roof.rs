@@ -131,28 +131,67 @@ const RIM_STEP: f32 = 0.4;
 /// its cornice; blind review p75)].
 const SHEDS_INTO: f32 = 0.05;
 
+/// How far above a long ledge of any kind but a sill a roof line sheds
+/// into it, as a share of the height [choice: 0.1. A pitched roof seen
+/// from the street shows its tiles between the sky and the eave's lower
+/// edge; the ledge finder finds that edge (often as a window head, one
+/// long line), and the roof line on the tiles' upper edge is no wall's
+/// top: traced, its water clouded the tiles and the wall as one surface
+/// (IMG_8498: tiles 0.08 of the height deep; blind reviews p77 and p78)]
+/// ...
+const ROOF_DEPTH: f32 = 0.1;
+/// ... when that ledge spans at least this share of the width
+/// [choice: 0.1, longer than one window's head].
+const EAVE_SPAN: f32 = 0.1;
+
 /// `ledges` with each roof line's points that have a projecting ledge
 /// (cornice, coping or balcony) less than [`SHEDS_INTO`] of the height
-/// `h` below them taken off: the lower line is where the water leaves the
-/// wall. What is left of a roof line stays where it runs at least a
-/// twentieth of the width `w`.
+/// `h` below them, or a long ledge other than a sill less than
+/// [`ROOF_DEPTH`] below them (an eave under its roof's tiles), taken off:
+/// the lower line is where the water leaves the wall. What is left of a
+/// roof line stays where it runs at least a twentieth of the width `w`.
 pub(super) fn shed_into_ledges(ledges: Vec<Ledge>, w: usize, h: usize) -> Vec<Ledge> {
-    let depth = SHEDS_INTO * h as f32;
-    let under = |x: f32, y: f32| {
-        ledges.iter().any(|l| {
+    let (depth, roof) = (SHEDS_INTO * h as f32, ROOF_DEPTH * h as f32);
+    // The ledge a roof line's point at (x, y) sheds into, if any.
+    let into = |x: f32, y: f32| {
+        ledges.iter().position(|l| {
             let (a, b) = (l.polyline[0][0], l.polyline[l.polyline.len() - 1][0]);
-            matches!(
-                l.kind,
-                LedgeKind::Cornice | LedgeKind::Coping | LedgeKind::Balcony
-            ) && (a.min(b)..=a.max(b)).contains(&x)
-                && (y..=y + depth).contains(&super::courses::y_at(l, x))
+            let reach = match l.kind {
+                LedgeKind::RoofLine | LedgeKind::Sill => 0.0,
+                _ if (a - b).abs() >= EAVE_SPAN * w as f32 => roof,
+                LedgeKind::Cornice | LedgeKind::Coping | LedgeKind::Balcony => depth,
+                _ => 0.0,
+            };
+            let below = super::courses::y_at(l, x) - y;
+            reach > 0.0 && (a.min(b)..=a.max(b)).contains(&x) && (0.0..=reach).contains(&below)
         })
     };
+    // A ledge that takes a roof's water is where that water leaves the
+    // wall: as sure a source as the roof line was, and a window head or
+    // course doing so is the roof's eave (the rain sheds it as one; as a
+    // window head it shed as a window's twin, 0.8-2.9 levels on
+    // IMG_8498's face under its eave against 3.4-4.0 with twins off).
+    let mut eave: Vec<Option<f32>> = vec![None; ledges.len()];
+    for l in ledges.iter().filter(|l| l.kind == LedgeKind::RoofLine) {
+        for p in &l.polyline {
+            if let Some(i) = into(p[0], p[1]) {
+                eave[i] = Some(eave[i].unwrap_or(0.0).max(l.confidence));
+            }
+        }
+    }
     let mut out = Vec::new();
-    for l in &ledges {
-        match l.kind {
-            LedgeKind::RoofLine => out.extend(split(l, w, |p| under(p[0], p[1]))),
-            _ => out.push(l.clone()),
+    for (l, eave) in ledges.iter().zip(eave) {
+        match (l.kind, eave) {
+            (LedgeKind::RoofLine, _) => out.extend(split(l, w, |p| into(p[0], p[1]).is_some())),
+            (_, None) => out.push(l.clone()),
+            (kind, Some(roof)) => out.push(Ledge {
+                kind: match kind {
+                    LedgeKind::WindowHead | LedgeKind::StringCourse => LedgeKind::RoofLine,
+                    kind => kind,
+                },
+                confidence: l.confidence.max(roof),
+                ..l.clone()
+            }),
         }
     }
     out
@@ -441,6 +480,53 @@ mod tests {
             .collect();
         assert_eq!(roofs, vec![(0.0, 90.0), (310.0, 400.0)], "{out:?}");
         assert_eq!(out.len(), 4, "the cornice and sill kept: {out:?}");
+    }
+
+    #[test]
+    fn a_roof_line_on_a_pitched_roofs_tiles_sheds_into_its_eave() {
+        // 400 x 400: a roof line at row 40 over x 0..400 (the tiles' upper
+        // edge); 32 rows below (0.08 of the height) the eave's lower edge,
+        // found as a window head, over x 200..380; a window head as far
+        // below over x 40..70 (one window's: too short) and a sill over
+        // x 100..180: neither takes the roof line's water.
+        let line = |kind, x0: f32, x1: f32, y: f32| Ledge {
+            kind,
+            polyline: vec![[x0, y], [x1, y]],
+            confidence: 0.2,
+        };
+        let roof = Ledge {
+            polyline: (0..=40).map(|k| [10.0 * k as f32, 40.0]).collect(),
+            confidence: 0.9,
+            ..line(LedgeKind::RoofLine, 0.0, 400.0, 40.0)
+        };
+        let ledges = vec![
+            roof,
+            line(LedgeKind::WindowHead, 200.0, 380.0, 72.0),
+            line(LedgeKind::WindowHead, 40.0, 70.0, 72.0),
+            line(LedgeKind::Sill, 100.0, 180.0, 72.0),
+        ];
+        let out = shed_into_ledges(ledges, 400, 400);
+        let seen: Vec<(LedgeKind, f32, f32, f32)> = out
+            .iter()
+            .map(|l| {
+                let (a, b) = (l.polyline[0][0], l.polyline[l.polyline.len() - 1][0]);
+                (l.kind, a, b, l.confidence)
+            })
+            .collect();
+        // The roof line is left where no eave is under it (what is left
+        // past the eave, x 390..400, is under a twentieth of the width);
+        // the eave takes the roof's water as a roof line, with its
+        // sureness; the short head and the sill are as they were.
+        use LedgeKind::*;
+        assert_eq!(
+            seen,
+            vec![
+                (RoofLine, 0.0, 190.0, 0.9),
+                (RoofLine, 200.0, 380.0, 0.9),
+                (WindowHead, 40.0, 70.0, 0.2),
+                (Sill, 100.0, 180.0, 0.2)
+            ]
+        );
     }
 
     #[test]
