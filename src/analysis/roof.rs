@@ -337,6 +337,18 @@ mod tests {
     use super::*;
     use crate::photo::Photo;
 
+    /// 400 x 400 classes: sky over rows 0..38, a two-row rim the classes
+    /// call vegetation (the sky's blend with the wall's top), wall below.
+    fn rim_classes() -> Vec<Class> {
+        (0..400 * 400)
+            .map(|i| match i / 400 {
+                0..38 => Class::Sky,
+                38..40 => Class::Vegetation,
+                _ => Class::Wall,
+            })
+            .collect()
+    }
+
     #[test]
     fn a_gables_slope_is_no_roof_line_its_eave_is() {
         // Sky over a wall whose top is level over x < 100 (row 120), then
@@ -415,13 +427,7 @@ mod tests {
             _ => image::Rgb([80, 100, 90]),
         });
         let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
-        let class: Vec<Class> = (0..400 * 400)
-            .map(|i| match i / 400 {
-                0..38 => Class::Sky,
-                38..40 => Class::Vegetation,
-                _ => Class::Wall,
-            })
-            .collect();
+        let class = rim_classes();
         let roofs = roof_line(&f, &class);
         assert_eq!(roofs.len(), 1, "one roof line, the wall's: {roofs:?}");
         let p = &roofs[0].polyline;
@@ -445,13 +451,7 @@ mod tests {
             _ => image::Rgb([193, 167, 146]),
         });
         let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
-        let class: Vec<Class> = (0..400 * 400)
-            .map(|i| match i / 400 {
-                0..38 => Class::Sky,
-                38..40 => Class::Vegetation,
-                _ => Class::Wall,
-            })
-            .collect();
+        let class = rim_classes();
         assert!(roof_line(&f, &class).is_empty());
     }
 
