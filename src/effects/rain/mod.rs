@@ -266,10 +266,9 @@ pub fn simulate_keeping(
     let warps = sources
         .iter()
         .zip(&keys)
-        .enumerate()
-        .map(|(i, (s, &key))| match i.checked_sub(top) {
-            Some(_) => sources::line_warp(seed, key, s.length(), &input.release),
-            None => sources::top_warp(seed, s.length(), &input.release),
+        .map(|(s, &key)| match key {
+            0 => sources::top_warp(seed, s.length(), &input.release),
+            key => sources::line_warp(seed, key, s.length(), &input.release),
         })
         .collect();
     let spans: Vec<f32> = sources
@@ -532,13 +531,19 @@ fn owners(seed: u64, spans: &[f32], keys: &[u64], n: usize) -> Vec<(usize, u64)>
         .enumerate()
         .flat_map(|(i, &c)| {
             (0..c as u64).map(move |j| {
-                let when = random::key(seed, Stream::Droplet, u64::MAX, keys[i] ^ random::mix(j));
+                let when = random::key(seed, Stream::Droplet, u64::MAX, own(keys[i], j));
                 (when, i, j)
             })
         })
         .collect();
     timed.sort_unstable();
     timed.into_iter().map(|(_, i, j)| (i, j)).collect()
+}
+
+/// The index of droplet `j` of the source with key `key` in its random
+/// streams ([`owners`]).
+fn own(key: u64, j: u64) -> u64 {
+    key ^ random::mix(j)
 }
 
 /// `x` folded into `0..=span` by turning back at each end, as a walker
@@ -560,8 +565,12 @@ impl Clouds<'_> {
         let p = self.p;
         let (si, j) = self.owners[k];
         let span = self.spans[si];
-        let stream = self.keys[si] ^ random::mix(j);
-        let mut rng = random::rng(self.seed, Stream::Droplet, layer as u64, stream);
+        let mut rng = random::rng(
+            self.seed,
+            Stream::Droplet,
+            layer as u64,
+            own(self.keys[si], j),
+        );
         *start = if layer == 0 {
             (rng.random::<f32>() * span, rng.random::<f32>() * p.mass_max)
         } else {
