@@ -7,7 +7,9 @@
 //! cornice or coping). The roof line is [`roof`]'s.
 
 use super::features::{Features, box_mean};
-use super::ledge_kinds::{crosses_a_frame, glass_below, kind_of, recovery, tops_a_window};
+use super::ledge_kinds::{
+    a_line_on_one_surface, crosses_a_frame, glass_below, kind_of, recovery, tops_a_window,
+};
 use super::silhouette;
 use super::wall::Class;
 use super::{Ledge, LedgeKind, courses, laps, roof};
@@ -203,6 +205,9 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
         // (the surround runs on above it up to the hood; measured on CMP,
         // dropping those loses hoods: recall 0.838 -> 0.786).
         .filter(|&(fit, kind)| kind == LedgeKind::WindowHead || !crosses_a_frame(f, fit))
+        // Slanted: a wall seen in perspective, where cables and cracks
+        // slant as its sills do; a sill has another surface above.
+        .filter(|&(fit, _)| fit.line().1.abs() <= LEVEL || !a_line_on_one_surface(f, fit))
         .map(|(fit, kind)| match kind {
             LedgeKind::WindowHead => (fit, kind),
             _ if tops_a_window(f, fit) => (fit, LedgeKind::WindowHead),
@@ -639,7 +644,7 @@ mod tests {
     }
 
     #[test]
-    fn a_walls_sills_seen_in_perspective_are_ledges_an_archs_shoulder_is_not() {
+    fn a_walls_sills_seen_in_perspective_are_ledges_a_cable_or_an_archs_shoulder_is_not() {
         // Wall 0.7 under a strip of sky. On the right, two columns of
         // windows seen in perspective: their sills (0.9 over a shadow 0.45)
         // slant up to the right at 0.5, three storeys of 80 px. On the left,
@@ -658,12 +663,14 @@ mod tests {
                     .iter()
                     .any(|&(a, b)| (a..b).contains(&x) && (4.0..8.0).contains(&slant(x, y, a, y0)))
             });
+            let cable = (220..330).contains(&x) && (0.0..2.0).contains(&slant(x, y, 220, 325));
             let shoulder = (60..100).contains(&x) && (0.0..4.0).contains(&slant(x, y, 60, 200));
             let shoulder_shadow =
                 (60..100).contains(&x) && (4.0..8.0).contains(&slant(x, y, 60, 200));
             let v = match (x, y) {
                 _ if sill || shoulder => 0.9,
                 _ if shadow || shoulder_shadow => 0.45,
+                _ if cable => 0.3,
                 (20..180, 150..154) => 0.9,
                 (20..180, 154..158) => 0.45,
                 _ => 0.7,
@@ -690,6 +697,14 @@ mod tests {
             .filter(|l| slanted(l) && l.polyline[0][0] > 200.0)
             .count();
         assert!(sills >= 5, "the slanted sills: {ledges:?}");
+        let on_the_cable = |l: &Ledge| {
+            let [x, y] = l.polyline[0];
+            x > 200.0 && (y - (325.0 - 0.5 * (x - 220.0))).abs() < 6.0
+        };
+        assert!(
+            !ledges.iter().any(|l| slanted(l) && on_the_cable(l)),
+            "the cable: {ledges:?}"
+        );
         assert!(
             !ledges
                 .iter()
