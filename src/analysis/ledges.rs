@@ -12,7 +12,7 @@ use super::ledge_kinds::{
 };
 use super::silhouette;
 use super::wall::Class;
-use super::{Ledge, LedgeKind, courses, laps, roof};
+use super::{Ledge, LedgeKind, courses, laps, roof, slants};
 
 /// Edges weaker than this (luma step over two rows, 0..1) are ignored
 /// (0.06 before the storey check below: on CMP 0.045 finds 2% more
@@ -27,19 +27,6 @@ const ALONE_CONFIDENCE: f32 = 0.5;
 /// Steepest slant followed (dy/dx): 45 degrees (the sills of a wall seen
 /// in perspective; 0.25 before).
 const MAX_SLOPE: f32 = 1.0;
-/// A ledge slanted more than this (dy/dx, about 14 degrees) lies on a wall
-/// seen in perspective.
-const LEVEL: f32 = 0.25;
-/// On such a wall a short weak ledge repeats up to this many of the
-/// photo's storeys above or below (the storey is measured on the windows
-/// of the whole photo; a near wall's storeys are taller).
-const OBLIQUE_STOREYS: f32 = 2.5;
-/// See [`against_the_slant`]. CMP base (rectified facades: their slanted
-/// lines are arches' shoulders and pediments' rakes), ledges found / on a
-/// labelled ledge-like element: main (no slant followed past 0.25) 8838 /
-/// 5616; slants followed, no test 9193 / 5727; against only the other way,
-/// 3 times, 9125 / 5691; against the level too, once, 8845 / 5614.
-const SLANT_MAJORITY: f32 = 1.0;
 /// In a street scene, a ledge less than this share of the height above
 /// the ground is taken to be on a parked car (see [`on_a_car`]). Over the
 /// ledges LabelMeFacade labels a car under, the median lies 0.10 of the
@@ -207,7 +194,7 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
         .filter(|&(fit, kind)| kind == LedgeKind::WindowHead || !crosses_a_frame(f, fit))
         // Slanted: a wall seen in perspective, where cables and cracks
         // slant as its sills do; a sill has another surface above.
-        .filter(|&(fit, _)| fit.line().1.abs() <= LEVEL || !a_line_on_one_surface(f, fit))
+        .filter(|&(fit, _)| fit.line().1.abs() <= slants::LEVEL || !a_line_on_one_surface(f, fit))
         .map(|(fit, kind)| match kind {
             LedgeKind::WindowHead => (fit, kind),
             _ if tops_a_window(f, fit) => (fit, LedgeKind::WindowHead),
@@ -248,8 +235,8 @@ pub fn detect(f: &Features, class: &[Class], storey: Option<f32>) -> Vec<Ledge> 
     if let Some(storey) = storey {
         out = without(out, |ls, i| alone(ls, i, storey, w, h));
     }
-    let reach = OBLIQUE_STOREYS * storey.unwrap_or(0.1 * h as f32);
-    out = without(out, |ls, i| against_the_slant(ls, i, reach));
+    let reach = slants::reach(storey.unwrap_or(0.1 * h as f32));
+    out = without(out, |ls, i| slants::against_the_slant(ls, i, reach));
     out.extend(laps);
     out.sort_by(|a, b| {
         a.polyline[0][1]
@@ -318,9 +305,9 @@ fn without(ledges: Vec<Ledge>, drop: impl Fn(&[Ledge], usize) -> bool) -> Vec<Le
 /// weak (under [`ALONE_CONFIDENCE`]) and alone: no other ledge lies one
 /// storey above or below it (within a tenth of the storey or 1.5% of the
 /// height `h`) over at least half the shorter one's columns; a ledge
-/// slanted more than [`LEVEL`] (a wall seen in perspective), long or
-/// short, weak or sure, needs another slanted the same way from half to
-/// [`OBLIQUE_STOREYS`] storeys above or below. Sills,
+/// slanted (a wall seen in perspective, [`slants`]), long or short, weak
+/// or sure, needs another slanted the same way a few storeys above or
+/// below ([`slants::storeys_apart`]). Sills,
 /// heads and hoods repeat from storey to storey; a stain, a crack or a
 /// brick course does not (on CMP, with [`MIN_STEP`] 0.045: recall 0.819 (offline)
 /// -> 0.808, precision 0.302 -> 0.325; see BENCHMARKS.md, sixth pass).
@@ -328,8 +315,7 @@ fn alone(ledges: &[Ledge], i: usize, storey: f32, w: usize, h: usize) -> bool {
     let l = &ledges[i];
     let ends = |l: &Ledge| (l.polyline[0], l.polyline[l.polyline.len() - 1]);
     let (a, b) = ends(l);
-    let slope = |(a, b): ([f32; 2], [f32; 2])| (b[1] - a[1]) / (b[0] - a[0]).max(1.0);
-    let oblique = slope((a, b)).abs() > LEVEL;
+    let oblique = slants::way(l) != 0.0;
     if l.kind == LedgeKind::RoofLine
         || !oblique && (b[0] - a[0] >= ALONE_SPAN * w as f32 || l.confidence >= ALONE_CONFIDENCE)
     {
@@ -341,11 +327,8 @@ fn alone(ledges: &[Ledge], i: usize, storey: f32, w: usize, h: usize) -> bool {
         let (c, d) = ends(o);
         let overlap = b[0].min(d[0]) - a[0].max(c[0]);
         let yo = (c[1] + d[1]) / 2.0;
-        let storeys = if oblique && slope((c, d)) * slope((a, b)) > 0.0 {
-            // A wall seen in perspective: its storeys look taller near
-            // the camera than the photo's storey; a sill over another in
-            // the same slant, from half to OBLIQUE_STOREYS storeys away.
-            (0.5 * storey..OBLIQUE_STOREYS * storey).contains(&(yo - y).abs())
+        let storeys = if oblique && slants::slope(o) * slants::slope(l) > 0.0 {
+            slants::storeys_apart(yo - y, storey)
         } else {
             [-storey, storey]
                 .iter()
@@ -353,45 +336,6 @@ fn alone(ledges: &[Ledge], i: usize, storey: f32, w: usize, h: usize) -> bool {
         };
         j != i && overlap >= 0.5 * (b[0] - a[0]).min(d[0] - c[0]) && storeys
     })
-}
-
-/// True when ledge `i` is slanted (more than [`LEVEL`]) against the lines
-/// near it: on a wall seen in perspective every level line leans the same
-/// way, towards the vanishing point, while on a wall seen square on the
-/// slanted edges found are an arch's shoulder or a pediment's rake (lit
-/// on one side, so found on one side only) among level sills and
-/// courses. Near: over its columns widened by its span on each side,
-/// within `reach` above or below (a long course far below is another
-/// part of the wall); kept when the lines leaning its way (itself among
-/// them) outweigh those level or leaning the other way [`SLANT_MAJORITY`]
-/// times (by columns).
-fn against_the_slant(ledges: &[Ledge], i: usize, reach: f32) -> bool {
-    let slant = |l: &Ledge| {
-        let (a, b) = (l.polyline[0], l.polyline[l.polyline.len() - 1]);
-        let s = (b[1] - a[1]) / (b[0] - a[0]).max(1.0);
-        let way = if s.abs() > LEVEL { s.signum() } else { 0.0 };
-        (a[0], b[0], (a[1] + b[1]) / 2.0, way)
-    };
-    let (x0, x1, y, way) = slant(&ledges[i]);
-    if way == 0.0 || ledges[i].kind == LedgeKind::RoofLine {
-        return false;
-    }
-    let span = x1 - x0;
-    let (mut with, mut against) = (0.0, 0.0);
-    for o in ledges.iter().filter(|o| o.kind != LedgeKind::RoofLine) {
-        let (c, d, yo, s) = slant(o);
-        let cols = if (yo - y).abs() < reach {
-            (x1 + span).min(d) - (x0 - span).max(c)
-        } else {
-            0.0
-        };
-        if cols > 0.0 && s == way {
-            with += cols;
-        } else if cols > 0.0 {
-            against += cols;
-        }
-    }
-    with < SLANT_MAJORITY * against
 }
 
 /// `fit` with each end taken back off the silhouette of a surface in
@@ -509,6 +453,7 @@ fn suppress(mut lines: Vec<Fit>, h: usize) -> Vec<Fit> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::synthetic::sky_over_wall;
     use super::*;
     use crate::photo::Photo;
 
@@ -644,82 +589,6 @@ mod tests {
     }
 
     #[test]
-    fn a_walls_sills_seen_in_perspective_are_ledges_a_cable_or_an_archs_shoulder_is_not() {
-        // Wall 0.7 under a strip of sky. On the right, two columns of
-        // windows seen in perspective: their sills (0.9 over a shadow 0.45)
-        // slant up to the right at 0.5, three storeys of 80 px. On the left,
-        // a wall seen square on: a long level course (0.9 over 0.45) at
-        // y 150 and, under it, an arch's lit shoulder slanting the same way.
-        let slant =
-            |x: u32, y: u32, x0: u32, y0: u32| y as f32 - (y0 as f32 - 0.5 * (x - x0) as f32);
-        let img = image::RgbImage::from_fn(400, 340, |x, y| {
-            let sill = [100, 180, 260].iter().any(|&y0| {
-                [(220, 250), (300, 330)]
-                    .iter()
-                    .any(|&(a, b)| (a..b).contains(&x) && (0.0..4.0).contains(&slant(x, y, a, y0)))
-            });
-            let shadow = [100, 180, 260].iter().any(|&y0| {
-                [(220, 250), (300, 330)]
-                    .iter()
-                    .any(|&(a, b)| (a..b).contains(&x) && (4.0..8.0).contains(&slant(x, y, a, y0)))
-            });
-            let cable = (220..330).contains(&x) && (0.0..2.0).contains(&slant(x, y, 220, 325));
-            let shoulder = (60..100).contains(&x) && (0.0..4.0).contains(&slant(x, y, 60, 200));
-            let shoulder_shadow =
-                (60..100).contains(&x) && (4.0..8.0).contains(&slant(x, y, 60, 200));
-            let v = match (x, y) {
-                _ if sill || shoulder => 0.9,
-                _ if shadow || shoulder_shadow => 0.45,
-                _ if cable => 0.3,
-                (20..180, 150..154) => 0.9,
-                (20..180, 154..158) => 0.45,
-                _ => 0.7,
-            };
-            image::Rgb([(v * 255.0) as u8; 3])
-        });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
-        let class: Vec<Class> = (0..400 * 340)
-            .map(|i| {
-                if i < 400 * 30 {
-                    Class::Sky
-                } else {
-                    Class::Wall
-                }
-            })
-            .collect();
-        let ledges = detect(&f, &class, Some(80.0));
-        let slanted = |l: &Ledge| {
-            let (a, b) = (l.polyline[0], l.polyline[1]);
-            (b[1] - a[1]) / (b[0] - a[0]) < -0.3
-        };
-        let sills = ledges
-            .iter()
-            .filter(|l| slanted(l) && l.polyline[0][0] > 200.0)
-            .count();
-        assert!(sills >= 5, "the slanted sills: {ledges:?}");
-        let on_the_cable = |l: &Ledge| {
-            let [x, y] = l.polyline[0];
-            x > 200.0 && (y - (325.0 - 0.5 * (x - 220.0))).abs() < 6.0
-        };
-        assert!(
-            !ledges.iter().any(|l| slanted(l) && on_the_cable(l)),
-            "the cable: {ledges:?}"
-        );
-        assert!(
-            !ledges
-                .iter()
-                .any(|l| slanted(l) && l.polyline[0][0] < 200.0),
-            "the shoulder under the course: {ledges:?}"
-        );
-        assert!(
-            ledges
-                .iter()
-                .any(|l| l.polyline[0][0] < 40.0 && (l.polyline[0][1] - 154.0).abs() < 4.0),
-            "the course: {ledges:?}"
-        );
-    }
-
-    #[test]
     fn a_short_weak_edge_alone_is_texture_sills_one_storey_apart_are_ledges() {
         // Wall 0.7; three storeys of 100 px, each with a sill (0.9 over a
         // shadow 0.45) under the same window columns; between the first two
@@ -734,17 +603,8 @@ mod tests {
             };
             image::Rgb([(v * 255.0) as u8; 3])
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 400);
         // Sky along the top: not a close-up, where only long ledges count.
-        let class: Vec<Class> = (0..400 * 340)
-            .map(|i| {
-                if i < 400 * 30 {
-                    Class::Sky
-                } else {
-                    Class::Wall
-                }
-            })
-            .collect();
+        let (f, class) = sky_over_wall(img, 30);
         let stain = |ls: &[Ledge]| {
             ls.iter()
                 .any(|l| (l.polyline[0][1] - 105.0).abs() < 4.0 && l.polyline[0][0] > 150.0)

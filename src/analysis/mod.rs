@@ -43,6 +43,7 @@ mod scale;
 pub mod shelter;
 mod silhouette;
 mod sky_windows;
+mod slants;
 pub mod synthetic;
 mod things;
 mod twigs;

@@ -334,6 +334,7 @@ fn eave(f: &Features, x: usize, top: usize) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    use super::super::synthetic::sky_over_wall;
     use super::*;
     use crate::photo::Photo;
 
@@ -388,16 +389,7 @@ mod tests {
             (100.., 40..44) => image::Rgb([222, 170, 100]),
             _ => image::Rgb([235, 165, 95]),
         });
-        let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 200);
-        let class: Vec<Class> = (0..200 * 200)
-            .map(|i| {
-                if i < 40 * 200 {
-                    Class::Sky
-                } else {
-                    Class::Wall
-                }
-            })
-            .collect();
+        let (f, class) = sky_over_wall(img, 40);
         let roofs = roof_line(&f, &class);
         assert_eq!(roofs.len(), 1, "{roofs:?}");
         let row = |x: f32| {

@@ -239,3 +239,25 @@ pub fn kerbside(kerb: Kerb, w: u32, h: u32) -> Scene {
         },
     }
 }
+
+/// For unit tests: the analysis features of `img` (at its own size) and a
+/// class map with sky over its first `sky_rows` rows and wall below.
+#[cfg(test)]
+pub(crate) fn sky_over_wall(
+    img: RgbImage,
+    sky_rows: u32,
+) -> (super::features::Features, Vec<super::wall::Class>) {
+    use super::wall::Class;
+    let (w, h) = img.dimensions();
+    let f = super::features::Features::new(&Photo::new(DynamicImage::ImageRgb8(img)), w.max(h));
+    let class = (0..w * h)
+        .map(|i| {
+            if i < w * sky_rows {
+                Class::Sky
+            } else {
+                Class::Wall
+            }
+        })
+        .collect();
+    (f, class)
+}
