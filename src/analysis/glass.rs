@@ -14,6 +14,7 @@
 use rayon::prelude::*;
 
 pub(crate) mod frames;
+mod grid;
 
 use super::features::{Features, box_mean, texture_radius};
 use super::neighbours;

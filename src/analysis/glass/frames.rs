@@ -24,6 +24,7 @@ use std::ops::Range;
 use super::super::features::{Features, luma};
 use super::super::wall::Class;
 use super::super::{Ledge, LedgeKind};
+use super::Bbox;
 
 /// A line longer than this share of the width is a string course or a
 /// cornice over many windows, not one window's member.
@@ -155,7 +156,8 @@ struct Cell {
 /// The wall pixels of the window cells found between stacked ledges
 /// (`ledges` in analysis pixels), to be called glass; then under a window
 /// head or over a sill alone, a cell as tall as the windows found
-/// (relative to its width).
+/// (relative to its width); then the windows of the grid the trusted
+/// ones make (`grid`).
 pub(crate) fn find(f: &Features, class: &[Class], ledges: &[Ledge]) -> Vec<usize> {
     let lines = lines(ledges, f.w);
     let (pairs, used): (Vec<Cell>, Vec<[usize; 2]>) = cells(&lines, f).into_iter().unzip();
@@ -185,7 +187,12 @@ pub(crate) fn find(f: &Features, class: &[Class], ledges: &[Ledge]) -> Vec<usize
             .find(|c| !cells.iter().any(|o| o.meets(c)) && found.iter().any(|(o, _)| o.aligned(c)));
         cells.extend(lone);
     }
-    let mut out = Vec::new();
+    let boxes: Vec<Bbox> = cells
+        .iter()
+        .map(|c| (c.x0, c.y0, c.x1 - 1, c.y1 - 1))
+        .collect();
+    let trusted = super::grid::trusted(f, class, &boxes);
+    let mut out = super::grid::find(f, class, ledges, &trusted);
     for c in &cells {
         for y in c.y0..c.y1 {
             out.extend(
@@ -286,7 +293,7 @@ fn cell(f: &Features, x0: f32, x1: f32, top: f32, bottom: f32, sill: bool) -> Op
 /// cell from row `y0`): the strongest step between the mean lumas of two
 /// rows in the cell's lowest [`SILL_REACH`] (the lit sill under the
 /// window's frame or glass); the sill stays wall.
-fn sill_top(f: &Features, x0: usize, x1: usize, y0: usize, y1: usize) -> usize {
+pub(super) fn sill_top(f: &Features, x0: usize, x1: usize, y0: usize, y1: usize) -> usize {
     let reach = ((SILL_REACH * (y1 - y0) as f32) as usize).max(3);
     let lo = y1.saturating_sub(reach).max(y0 + 1);
     let row = |y: usize| f.luma[y * f.w + x0..y * f.w + x1].iter().sum::<f32>() / (x1 - x0) as f32;
@@ -354,14 +361,14 @@ impl Cell {
 
 /// Mean colour and texture of the wall pixels of a rectangle.
 #[derive(Debug, Clone, Copy, Default)]
-struct Stats {
+pub(super) struct Stats {
     rgb: [f32; 3],
     texture: f32,
-    n: usize,
+    pub(super) n: usize,
 }
 
 impl Stats {
-    fn of(f: &Features, class: &[Class], xs: Range<usize>, ys: Range<usize>) -> Stats {
+    pub(super) fn of(f: &Features, class: &[Class], xs: Range<usize>, ys: Range<usize>) -> Stats {
         let mut s = Stats::default();
         for y in ys {
             for x in xs.clone() {
@@ -380,12 +387,12 @@ impl Stats {
         s
     }
 
-    fn luma(&self) -> f32 {
+    pub(super) fn luma(&self) -> f32 {
         luma(self.rgb)
     }
 
     /// The two pooled.
-    fn and(&self, o: &Stats) -> Stats {
+    pub(super) fn and(&self, o: &Stats) -> Stats {
         let n = (self.n + o.n).max(1) as f32;
         let (a, b) = (self.n as f32 / n, o.n as f32 / n);
         Stats {
