@@ -61,7 +61,6 @@ pub(super) fn rain(
         catch: r.source_lines.iter().map(|l| catch(ctx, l)).collect(),
         release: release(ctx, r),
         washed: preset.stain.washed_opacity > 0.0,
-        metres_per_pixel: 1.0 / ctx.grid_px(1.0),
     };
     let (mut out, mut kept) = rain::simulate_keeping(
         &input,

@@ -458,7 +458,6 @@ mod tests {
                 catch: vec![],
                 release: Release::UNIFORM,
                 washed: false,
-                metres_per_pixel: crate::effects::rain::droplets::STEP_M,
             };
             let out = simulate(&input, &p, 5, &Progress::none()).unwrap();
             let sum = |rows: std::ops::Range<usize>| -> f32 {

@@ -1,18 +1,6 @@
 //! One droplet running down the wall: motion (Chang eqs. 2-4), water
 //! exchange (eqs. 5-6) and dirt exchange (eqs. 7-8).
 //!
-//! The walk steps one grid pixel at a time, so Chang's per-step constants
-//! hold for one size of pixel: [`STEP_M`]. On a grid of another scale
-//! [`Laws::new`] scales each per-step rate so a droplet does per metre of
-//! wall what it does at that scale (`rain-and-moss.md`: sizes are
-//! physical), and a streak's width and length in pixels follow the grid's
-//! metres per pixel: the exchange rates (eqs. 5-8), gravity and braking
-//! (eqs. 3-4) with the pixel's size, the sideways kick (eq. 2) with its
-//! square root, as a velocity diffusing over a time step that shrinks
-//! with the pixel. The speed limit stays in pixels a step (streaks stay
-//! gap-free). The roughness M (eq. 1) is read from the grid's pixels as
-//! Chang does.
-//!
 //! A droplet runs inside a [`Patch`]: a band of whole columns of the wall
 //! that no other thread touches meanwhile. When it steps out of its patch it
 //! is parked, and resumes later in the patch that holds its new column
@@ -67,14 +55,6 @@ pub struct Trace {
     pub outcome: Option<End>,
 }
 
-/// The grid pixel, metres, Chang's per-step constants (the preset's) hold
-/// for [choice: 2 cm, the usual photo's scale on the simulation grid
-/// (0.01-0.03 m a pixel), so typical photos keep the look the presets were
-/// tuned on; before, every grid ran them as they are, and a finer grid's
-/// streaks came out narrower in metres (`BENCHMARKS.md`, thirty-sixth
-/// pass)].
-pub const STEP_M: f32 = 0.02;
-
 /// The per-step laws of one rainfall, with the preset's constants folded.
 #[derive(Debug, Clone, Copy)]
 pub struct Laws {
@@ -98,24 +78,18 @@ pub struct Laws {
 }
 
 impl Laws {
-    /// The laws for preset `p` on a grid of `metres_per_pixel` (see the
-    /// module docs; at [`STEP_M`] the preset's constants as they are).
-    pub fn new(p: &RainParams, metres_per_pixel: f32) -> Laws {
-        let s = match metres_per_pixel.is_finite() && metres_per_pixel > 0.0 {
-            true => metres_per_pixel / STEP_M,
-            false => 1.0,
-        };
-        let slow = s / (p.r_max - p.r + 1.0).max(1e-3);
-        let dt = p.dt * s;
+    /// The laws for preset `p`.
+    pub fn new(p: &RainParams) -> Laws {
+        let slow = 1.0 / (p.r_max - p.r + 1.0).max(1e-3);
         Laws {
             saturation: p.saturation,
-            absorb: p.k_a * dt / p.saturation,
-            release: p.k_s * dt,
-            dissolve: (1.0 - p.k_s) * dt,
+            absorb: p.k_a * p.dt / p.saturation,
+            release: p.k_s * p.dt,
+            dissolve: (1.0 - p.k_s) * p.dt,
             slow,
             slow_y: p.rho * slow,
-            scatter: p.b * p.r * s.sqrt(),
-            g: p.g * s,
+            scatter: p.b * p.r,
+            g: p.g,
             v_max: p.v_max,
             mass_min: p.mass_min,
             max_steps: p.max_steps,
@@ -342,16 +316,13 @@ mod tests {
     use proptest::prelude::*;
 
     fn laws(k_a: f32, a: f32, dt: f32, k_s: f32) -> Laws {
-        Laws::new(
-            &RainParams {
-                k_a,
-                saturation: a,
-                dt,
-                k_s,
-                ..RainParams::default()
-            },
-            STEP_M,
-        )
+        Laws::new(&RainParams {
+            k_a,
+            saturation: a,
+            dt,
+            k_s,
+            ..RainParams::default()
+        })
     }
 
     proptest! {
@@ -388,7 +359,7 @@ mod tests {
             xi1 in -1.0f32..=1.0,
         ) {
             let p = RainParams { r: 60.0, v_max: 10.0, ..RainParams::default() };
-            let (ax, ay) = Laws::new(&p, STEP_M).accelerate(vx, vy, mx, my, xi1);
+            let (ax, ay) = Laws::new(&p).accelerate(vx, vy, mx, my, xi1);
             // Reference: one Euler step of eqs. (2-4) with dt = 1, braking clamped at 0.
             let slow = 1.0 / (p.r_max - p.r + 1.0);
             let want_x = vx * (1.0 - mx * slow).max(0.0) + p.b * p.r * xi1 * my;
@@ -396,31 +367,6 @@ mod tests {
             prop_assert!((ax - want_x).abs() < 1e-5, "{ax} vs {want_x}");
             prop_assert!((ay - want_y).abs() < 1e-5, "{ay} vs {want_y}");
         }
-    }
-
-    /// How far down a droplet of mass 40 runs on a smooth, clean wall of
-    /// `metres_per_pixel` before it dries, metres.
-    fn run_length(metres_per_pixel: f32) -> f32 {
-        let (width, height) = (8, 4000);
-        let luma = RowMajor::filled(width, height, 100.0);
-        let mut wall = Wall::new(&luma, &RowMajor::filled(width, height, true));
-        let cols = wall.cols;
-        let mut runner = Runner::new(0, droplet(4.5), rng(3, Stream::Droplet, 0, 0));
-        runner.drop.m = 40.0;
-        let laws = Laws::new(&RainParams::default(), metres_per_pixel);
-        runner.run(&mut wall.patches(&[0, cols])[0], &laws);
-        assert_eq!(runner.trace.outcome, Some(End::Dried));
-        (runner.trace.end.1 - 1.5) * metres_per_pixel
-    }
-
-    #[test]
-    fn a_droplet_runs_as_far_in_metres_on_any_grid() {
-        let (coarse, fine) = (run_length(STEP_M), run_length(STEP_M / 2.0));
-        assert!(coarse > 0.1, "it ran {coarse} m");
-        assert!(
-            (fine / coarse - 1.0).abs() < 0.1,
-            "{coarse} m at {STEP_M} m a pixel, {fine} m at half that"
-        );
     }
 
     #[test]
@@ -431,7 +377,7 @@ mod tests {
     #[test]
     fn smooth_wall_droplet_falls_straight_down() {
         let p = RainParams::default();
-        let laws = Laws::new(&p, STEP_M);
+        let laws = Laws::new(&p);
         let (mut vx, mut vy) = (0.0, 0.0);
         for _ in 0..50 {
             (vx, vy) = laws.accelerate(vx, vy, 0.0, 0.0, 1.0);
@@ -443,7 +389,7 @@ mod tests {
     #[test]
     fn vertical_roughness_brakes_and_scatters() {
         let p = RainParams::default();
-        let (vx, vy) = Laws::new(&p, STEP_M).accelerate(0.0, 0.8, 0.0, 0.3, 1.0);
+        let (vx, vy) = Laws::new(&p).accelerate(0.0, 0.8, 0.0, 0.3, 1.0);
         assert!(vy < 0.8, "rho * M_y brakes the fall");
         assert!(vx > 0.0, "b r xi M_y pushes sideways");
     }
@@ -451,7 +397,7 @@ mod tests {
     #[test]
     fn speed_is_capped_at_v_max_keeping_direction() {
         let p = RainParams::default();
-        let (vx, vy) = Laws::new(&p, STEP_M).accelerate(0.6, 0.9, 0.0, 0.0, 0.0);
+        let (vx, vy) = Laws::new(&p).accelerate(0.6, 0.9, 0.0, 0.0, 0.0);
         assert!(((vx * vx + vy * vy).sqrt() - p.v_max).abs() < 1e-6);
         assert!((vx / vy - 0.6 / (0.9 + p.g)).abs() < 1e-6);
     }
@@ -485,7 +431,7 @@ mod tests {
         let (water0, dirt0) = (wall.total_water() + 8.0, wall.total_dirt() + 3.0);
         let mut runner = Runner::new(0, droplet(16.5), rng(1, Stream::Droplet, 0, 0));
         let cols = wall.cols;
-        runner.run(&mut wall.patches(&[0, cols])[0], &Laws::new(&p, STEP_M));
+        runner.run(&mut wall.patches(&[0, cols])[0], &Laws::new(&p));
         let t = runner.trace;
         assert!(t.steps > 0 && t.outcome.is_some());
         let water1 = wall.total_water() + runner.drop.m as f64;
@@ -505,7 +451,7 @@ mod tests {
             b: 0.2,
             ..RainParams::default()
         };
-        let laws = Laws::new(&p, STEP_M);
+        let laws = Laws::new(&p);
         let mut whole = dirty_wall();
         let cols = whole.cols;
         let start = droplet(16.5);

@@ -50,9 +50,6 @@ pub struct RainInput<'a> {
     /// Whether to keep the dirt the droplets washed off
     /// ([`RainOutput::washed`]).
     pub washed: bool,
-    /// The grid's scale, metres per grid pixel: the walk's per-step laws
-    /// follow it ([`Laws::new`]).
-    pub metres_per_pixel: f32,
 }
 
 /// Numbers describing one rainfall.
@@ -297,7 +294,7 @@ pub fn simulate_keeping(
         p,
         seed,
     };
-    let laws = Laws::new(p, input.metres_per_pixel);
+    let laws = Laws::new(p);
     let rounds = p.diffusion_rounds.max(1) as usize;
     let area = input.region.data().iter().filter(|&&r| r).count().max(1);
     // Per droplet: (position along the sources, mass), carried between layers.

@@ -34,7 +34,6 @@ fn dirt_is_conserved_between_droplets_and_wall() {
         catch: vec![],
         release: Release::UNIFORM,
         washed: false,
-        metres_per_pixel: super::droplets::STEP_M,
     };
     // No fresh grime: all dirt comes off the ledges with the droplets.
     let p = RainParams {
@@ -68,7 +67,6 @@ fn what_droplets_wash_off_and_deposit_balances_what_they_bring_and_lose() {
         catch: vec![],
         release: Release::UNIFORM,
         washed: true,
-        metres_per_pixel: super::droplets::STEP_M,
     };
     let p = RainParams {
         initial_dirt: 5.0,
@@ -108,7 +106,6 @@ fn what_droplets_wash_off_and_deposit_balances_what_they_bring_and_lose() {
     let plain = simulate(
         &RainInput {
             washed: false,
-            metres_per_pixel: super::droplets::STEP_M,
             ..input.clone()
         },
         &p,
@@ -136,7 +133,6 @@ fn a_sheltered_ledge_sheds_less_water_than_an_open_one() {
             catch,
             release: Release::UNIFORM,
             washed: false,
-            metres_per_pixel: super::droplets::STEP_M,
         };
         let p = RainParams {
             top_edge: false,
@@ -174,7 +170,6 @@ fn droplets_start_on_the_source_line_and_end_lower() {
         catch: vec![],
         release: Release::UNIFORM,
         washed: false,
-        metres_per_pixel: super::droplets::STEP_M,
     };
     let p = RainParams {
         top_edge: false,
@@ -223,7 +218,6 @@ fn heavier_droplets_run_further() {
         catch: vec![],
         release: Release::UNIFORM,
         washed: false,
-        metres_per_pixel: super::droplets::STEP_M,
     };
     let mean_run = |mass_max: f32| {
         let p = RainParams {
@@ -261,7 +255,6 @@ fn cancel_stops_mid_layer() {
         catch: vec![],
         release: Release::UNIFORM,
         washed: false,
-        metres_per_pixel: super::droplets::STEP_M,
     };
     let cancel = AtomicBool::new(true);
     let r = simulate(
@@ -285,7 +278,6 @@ fn deposits_raise_streak_channels_but_keep_the_wall_rough() {
         catch: vec![],
         release: Release::UNIFORM,
         washed: false,
-        metres_per_pixel: super::droplets::STEP_M,
     };
     let p = RainParams {
         layers: 12,
@@ -315,7 +307,6 @@ fn the_same_rain_at_any_thread_count() {
         catch: vec![],
         release: Release::UNIFORM,
         washed: false,
-        metres_per_pixel: super::droplets::STEP_M,
     };
     let p = RainParams {
         layers: 3,
@@ -355,7 +346,6 @@ fn an_in_range_preset_that_asks_too_much_is_refused_before_it_starts() {
         catch: vec![],
         release: Release::UNIFORM,
         washed: false,
-        metres_per_pixel: super::droplets::STEP_M,
     };
     let p = RainParams {
         droplets: 100_000,
@@ -395,7 +385,6 @@ fn droplets_in_several_schedules_are_the_same_at_any_thread_count() {
         catch: vec![],
         release: Release::UNIFORM,
         washed: false,
-        metres_per_pixel: super::droplets::STEP_M,
     };
     let p = RainParams {
         layers: 1,
@@ -429,7 +418,6 @@ fn kept_walls_are_the_shorter_runs() {
         catch: vec![],
         release: Release::UNIFORM,
         washed: false,
-        metres_per_pixel: super::droplets::STEP_M,
     };
     let p = |layers| RainParams {
         layers,
@@ -482,7 +470,6 @@ fn a_ledge_found_elsewhere_leaves_the_other_ledges_streaks_where_they_were() {
             catch: vec![],
             release: Release::UNIFORM,
             washed: false,
-            metres_per_pixel: super::droplets::STEP_M,
         };
         let p = RainParams {
             top_edge: false,
