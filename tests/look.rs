@@ -407,8 +407,10 @@ fn plain(metres_per_pixel: f32) -> Scene {
 /// Mean over the rows of a streak's equivalent width (ink / peak ink) in
 /// the rainfalls' layers, with `seed`.
 fn streak_width(metres_per_pixel: f32, seed: u64) -> f32 {
-    let mut p = Preset::default();
-    p.seed = seed;
+    let mut p = Preset {
+        seed,
+        ..Preset::default()
+    };
     p.moss.enabled = false;
     p.dust.enabled = false;
     p.rain.top_edge = false;
