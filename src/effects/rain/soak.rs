@@ -79,8 +79,15 @@ pub const SOAK: f32 = 0.7;
 pub const PORE: f32 = 0.2;
 
 /// The pore noise's feature size, metres, at least [`PORE_MIN_PX`]
-/// [choice: 2 cm, the blotches a drying film leaves on render].
-pub const PORE_M: f32 = 0.02;
+/// [choice: 4 cm, the blotches a drying film leaves on render. It was 2
+/// cm, which [`PORE_MIN_PX`] raised to 3 pixels on every photo coarser
+/// than 7 mm a pixel (4-9 cm at the usual 0.013-0.03 m a pixel, the look
+/// the critics judged), so a finer photo got finer blotches in metres and
+/// its streaks read narrower (ink over peak, the blotches raise a row's
+/// peak; `BENCHMARKS.md`, thirty-sixth pass); at 4 cm the size is the
+/// same in metres on every photo finer than 1.3 cm a pixel, and unchanged
+/// on the coarser ones].
+pub const PORE_M: f32 = 0.04;
 
 /// The smallest fine window, photo pixels.
 const FINE_MIN_PX: f32 = 2.0;
