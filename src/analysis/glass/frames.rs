@@ -347,16 +347,20 @@ impl Cell {
         let share = |a0: usize, a1: usize, b0: usize, b1: usize| {
             a1.min(b1).saturating_sub(a0.max(b0)) as f32 / (a1 - a0).max(b1 - b0).max(1) as f32
         };
-        let like = |a: usize, b: usize| (a.max(b) as f32) < LIKE * a.min(b) as f32;
-        (share(self.y0, self.y1, o.y0, o.y1) >= ALIGN && like(self.x1 - self.x0, o.x1 - o.x0))
+        (share(self.y0, self.y1, o.y0, o.y1) >= ALIGN && alike(self.x1 - self.x0, o.x1 - o.x0))
             || (share(self.x0, self.x1, o.x0, o.x1) >= ALIGN
-                && like(self.y1 - self.y0, o.y1 - o.y0))
+                && alike(self.y1 - self.y0, o.y1 - o.y0))
     }
 
     /// True when the two overlap.
     fn meets(&self, o: &Cell) -> bool {
         self.x0 < o.x1 && o.x0 < self.x1 && self.y0 < o.y1 && o.y0 < self.y1
     }
+}
+
+/// True when two sizes are within [`LIKE`] of each other.
+pub(super) fn alike(a: usize, b: usize) -> bool {
+    (a.max(b) as f32) < LIKE * a.min(b) as f32
 }
 
 /// Mean colour and texture of the wall pixels of a rectangle.

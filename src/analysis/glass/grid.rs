@@ -25,12 +25,9 @@
 use super::super::features::Features;
 use super::super::wall::Class;
 use super::super::{Ledge, LedgeKind};
-use super::frames::{Stats, sill_top};
+use super::frames::{Stats, alike, sill_top};
 use super::{Bbox, LONE_FILL, bbox, components, is_window};
-
-/// Two trusted windows make a row and a column when their widths and
-/// heights are within this factor of each other (`frames::LIKE`).
-const LIKE: f32 = 1.5;
+use crate::effects::habitat::row_at;
 
 /// The frame: the cell is inset by this share of its width on every side
 /// (at least one analysis pixel; `frames::FRAME`).
@@ -115,30 +112,15 @@ pub(super) fn find(
     out
 }
 
-/// True when `a` and `c` have widths and heights within [`LIKE`] of each
-/// other.
+/// True when `a` and `c` have widths and heights of a like size
+/// ([`alike`]): two trusted windows then make a row and a column.
 fn like(a: &Bbox, c: &Bbox) -> bool {
-    let near = |p: usize, q: usize| (p.max(q) as f32) < LIKE * (p.min(q) as f32);
-    near(a.2 - a.0 + 1, c.2 - c.0 + 1) && near(a.3 - a.1 + 1, c.3 - c.1 + 1)
+    alike(a.2 - a.0 + 1, c.2 - c.0 + 1) && alike(a.3 - a.1 + 1, c.3 - c.1 + 1)
 }
 
 /// True when the two boxes overlap.
 fn meets(a: &Bbox, b: &Bbox) -> bool {
     a.0 <= b.2 && b.0 <= a.2 && a.1 <= b.3 && b.1 <= a.3
-}
-
-/// The row of `polyline` at column `x`, when it spans it.
-fn y_at(polyline: &[[f32; 2]], x: f32) -> Option<f32> {
-    polyline.windows(2).find_map(|s| {
-        let ([x0, y0], [x1, y1]) = (s[0], s[1]);
-        (x0 <= x && x <= x1).then(|| {
-            if x1 > x0 {
-                y0 + (y1 - y0) * (x - x0) / (x1 - x0)
-            } else {
-                y0
-            }
-        })
-    })
 }
 
 /// The proposed box `b` inset by its frame, stopped at the ledges that
@@ -164,7 +146,7 @@ fn cell(f: &Features, class: &[Class], ledges: &[Ledge], b: &Bbox) -> Option<Bbo
         if common < CROSSES * (x1 - x0 + 1) as f32 {
             continue;
         }
-        let Some(y) = y_at(&l.polyline, (x0 + x1) as f32 / 2.0) else {
+        let Some(y) = row_at(&l.polyline, (x0 + x1) as f32 / 2.0) else {
             continue;
         };
         if y >= mid && y <= (b.3 + 2) as f32 {
