@@ -158,7 +158,14 @@ fn labelmefacade(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
             .to_string();
         let lab = grime::io::load_photo(&dir.join("labels").join(format!("{stem}.png")))?;
         let lab = lab.image().to_rgb8();
-        let windows = lab.pixels().map(|p| p.0 == [0, 0, 128]).collect();
+        let windows: Vec<bool> = lab.pixels().map(|p| p.0 == [0, 0, 128]).collect();
+        // The storey from the labelled windows' rows, as on CMP.
+        let (w, h) = (lab.width() as usize, lab.height() as usize);
+        let index: Vec<u8> = windows.iter().map(|&b| b as u8).collect();
+        let storey_px = eval::storey_from_windows(
+            &eval::components(&index, w, h, &[1], (w * h) / 20000),
+            h as f32,
+        );
         let various = lab.pixels().map(|p| p.0 == [0, 0, 0]).collect();
         let labels = lab
             .pixels()
@@ -176,6 +183,7 @@ fn labelmefacade(dir: &Path) -> anyhow::Result<Vec<(String, Photo, Truth)>> {
             width: photo.width(),
             height: photo.height(),
             labels: Some(labels),
+            storey_px,
             windows: Some(windows),
             various: Some(various),
             ..Truth::default()
