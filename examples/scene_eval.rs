@@ -81,11 +81,13 @@ fn main() -> anyhow::Result<()> {
             let mut one = Metrics::default();
             one.add(a.as_ref(), truth);
             println!(
-                "{name}: iou {:.2} spill {:.2} sky {:.2} ({} sky px) wall as ground {} px, ground as wall {} px, car as wall {} px, various as wall {}/{} px, ledge on car {} px, ledges found {}/{}",
+                "{name}: iou {:.2} spill {:.2} sky {:.2} ({} sky px, {} sky as wall px, {} vegetation as wall px) wall as ground {} px, ground as wall {} px, car as wall {} px, various as wall {}/{} px, ledge on car {} px, ledges found {}/{}",
                 one.mean_iou(),
                 one.spill(),
                 one.sky_spill(),
                 one.sky,
+                one.spill_by[SKY as usize].1,
+                one.spill_by[VEGETATION as usize].1,
                 one.miss_by[analysis::Class::Ground as usize],
                 one.spill_by[eval::GROUND as usize].1,
                 one.spill_by[CAR as usize].1,

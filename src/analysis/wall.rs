@@ -171,6 +171,7 @@ pub fn classify(f: &Features) -> Vec<Class> {
     super::plane::settle(f, &side, &mut class);
     super::appearance::relabel(f, &side, &mut class);
     leaves.fringe(f, &mut class);
+    leaves.canopy(f, &mut class);
     leaves.twigs(f, &mut class);
     let other = class.iter().filter(|&&c| c != Class::Wall).count();
     if (other as f32) < CLOSE_UP * n as f32 {
