@@ -591,6 +591,19 @@ pub(super) mod tests {
         assert_eq!(render, 0, "{render} render pixels leafy");
     }
 
+    /// Sky where `sky` says so, wall elsewhere, on a `w` x `h` grid.
+    fn sky_or_wall(w: usize, h: usize, sky: &dyn Fn(usize, usize) -> bool) -> Vec<Class> {
+        (0..w * h)
+            .map(|i| {
+                if sky(i % w, i / w) {
+                    Class::Sky
+                } else {
+                    Class::Wall
+                }
+            })
+            .collect()
+    }
+
     /// Blue sky over a wall at row 150 (whole width), both with texture
     /// that points every way (a crown's leaves; the wall's ornament); on
     /// the left a crown of that texture (a disk of radius 100 about (130,
@@ -635,15 +648,7 @@ pub(super) mod tests {
             })
         });
         let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 512);
-        let class = (0..w * h)
-            .map(|i| {
-                if sky(i % w, i / w) {
-                    Class::Sky
-                } else {
-                    Class::Wall
-                }
-            })
-            .collect();
+        let class = sky_or_wall(w, h, &sky);
         (f, class, crown)
     }
 
@@ -739,15 +744,7 @@ pub(super) mod tests {
             }))
         });
         let f = Features::new(&Photo::new(image::DynamicImage::ImageRgb8(img)), 512);
-        let class = (0..w * h)
-            .map(|i| {
-                if sky(i % w, i / w) {
-                    Class::Sky
-                } else {
-                    Class::Wall
-                }
-            })
-            .collect();
+        let class = sky_or_wall(w, h, &sky);
         let leafy = move |x: usize, y: usize| crown(x, y) && hole[y * w + x] <= 0.5;
         (f, class, leafy)
     }
