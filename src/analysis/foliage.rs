@@ -261,17 +261,22 @@ impl Foliage {
     /// Run on the final classes (the sky as the fills and the appearance
     /// step left it).
     pub fn fringe(&self, f: &Features, class: &mut [Class]) {
-        let (w, k, gw) = (f.w, self.k, self.gw);
         let ragged: Vec<bool> = self
             .outline(f, class)
             .iter()
             .zip(&self.texture)
             .map(|(&e, &t)| t == Texture::EveryWay && e > RAGGED)
             .collect();
+        self.to_vegetation(f.w, &ragged, class);
+    }
+
+    /// Turns the wall pixels of the `cells` set into vegetation.
+    fn to_vegetation(&self, w: usize, cells: &[bool], class: &mut [Class]) {
+        let (k, gw) = (self.k, self.gw);
         class.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-            let ragged = &ragged[(y / k) * gw..];
+            let cells = &cells[(y / k) * gw..];
             for (x, c) in row.iter_mut().enumerate() {
-                if *c == Class::Wall && ragged[x / k] {
+                if *c == Class::Wall && cells[x / k] {
                     *c = Class::Vegetation;
                 }
             }
@@ -337,14 +342,7 @@ impl Foliage {
                 }
             }
         }
-        class.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-            let reached = &reached[(y / k) * gw..];
-            for (x, c) in row.iter_mut().enumerate() {
-                if *c == Class::Wall && reached[x / k] {
-                    *c = Class::Vegetation;
-                }
-            }
-        });
+        self.to_vegetation(w, &reached, class);
     }
 }
 
